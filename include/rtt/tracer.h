@@ -1,0 +1,98 @@
+// The tracer interface: every tracer (reference single ray, SIMD packets, RTT, Embree) answers
+// the same batches, so they are compared on exactly the same rays and timed separately for
+// primary, shadow and secondary rays.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "rtt/kdtree.h"
+#include "rtt/math.h"
+#include "rtt/scene.h"
+
+namespace rtt {
+
+/// Shadow segments stop this far (in the segment's parameter) from both ends (CONVENTIONS).
+inline constexpr float shadow_epsilon = 1e-4f;
+
+/// The one definition of a shadow segment used by every tracer: from the light L towards the
+/// hit point p, s in [1e-4, 1 - 1e-4] of L + s (p - L). (CONVENTIONS lets a tracer trace either way.)
+inline Ray shadow_ray(const Vec3f& light, const Vec3f& point) {
+    return Ray{light, point - light, shadow_epsilon, 1.f - shadow_epsilon};
+}
+
+/// A tile of rays laid out as a grid of `width` x `height` samples, row-major. For a 4x4-pixel
+/// image tile with K x K antialiasing that is 4K x 4K samples in CONVENTIONS' sample order
+/// restricted to the tile (sample row, then sample column).
+struct RayTile {
+    int width = 0;
+    int height = 0;
+    std::span<const Ray> rays;  ///< width * height rays.
+    /// True when every ray starts from one apex (rays[i].org identical) and the directions were
+    /// generated on a planar grid (pinhole camera; planar-mirror reflection about the mirrored
+    /// eye), so the 4 corner rays bound a convex shaft holding every other ray of the tile.
+    bool shaft = false;
+};
+
+/// Shadow segments from one point light to the hit points of a tile (same grid as RayTile).
+struct SegmentTile {
+    int width = 0;
+    int height = 0;
+    Vec3f light;
+    std::span<const Vec3f> points;      ///< Hit point p of each sample.
+    std::span<const uint32_t> triangles;  ///< Triangle the sample's ray hit (plane identity).
+    std::span<const uint8_t> active;    ///< 1 = answer this segment; 0 = skip (visible = 0).
+    bool shaft = false;                 ///< Points come from a shaft tile (see RayTile).
+};
+
+/// Per-kind counters, the rows of the paper's Table 1. Added up over tiles and threads.
+struct TraceStats {
+    uint64_t tiles = 0;         ///< Tiles handed to the tracer.
+    uint64_t rtt_tiles = 0;     ///< Tiles whose inner rays RTT answered from the relevant list.
+    uint64_t rays = 0;          ///< Rays (or active segments) asked for.
+    uint64_t traced = 0;        ///< Rays traversed through the kd-tree (RTT: corners + fallbacks).
+    uint64_t answered = 0;      ///< Rays answered from a relevant list without traversal.
+    uint64_t relevant_sum = 0;  ///< Sum of relevant-list lengths over RTT tiles.
+
+    TraceStats& operator+=(const TraceStats& o);
+    double avg_relevant() const { return rtt_tiles ? double(relevant_sum) / double(rtt_tiles) : 0.0; }
+};
+
+/// How a sample was answered, for the paper's Figure 5 maps.
+enum class SampleAnswer : uint8_t {
+    traced = 0,          ///< Traversed through the kd-tree.
+    answered_empty = 1,  ///< RTT, relevant list empty (shadows: unoccluded without a test).
+    answered_list = 2,   ///< RTT, tested against a non-empty relevant list.
+};
+
+class Tracer {
+public:
+    virtual ~Tracer() = default;
+    virtual std::string_view name() const = 0;
+
+    /// Closest hit of every ray: hits[i] for tile.rays[i]; t and the triangle index, or a miss.
+    /// Thread-safe: tiles may be traced concurrently. `answers` (optional) receives one
+    /// SampleAnswer per ray.
+    virtual void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats = nullptr,
+                           std::span<SampleAnswer> answers = {}) const = 0;
+
+    /// Visibility of every active segment: visible[i] = 1 when no triangle meets
+    /// shadow_ray(tile.light, tile.points[i]) in its parameter range, else 0 (also 0 when
+    /// inactive).
+    virtual void occluded(const SegmentTile& tile, std::span<uint8_t> visible,
+                          TraceStats* stats = nullptr,
+                          std::span<SampleAnswer> answers = {}) const = 0;
+};
+
+/// Names accepted by make_tracer on this build ("ray", "packet", "rtt", ...).
+std::vector<std::string> tracer_kinds();
+
+/// Creates a tracer over `scene` and `tree` (both must outlive it). Throws rtt::Error for an
+/// unknown kind, or one this machine or build cannot run.
+std::unique_ptr<Tracer> make_tracer(std::string_view kind, const Scene& scene, const KdTree& tree);
+
+}  // namespace rtt

@@ -1,0 +1,78 @@
+// Primary rays exactly as CONVENTIONS writes them. This file is compiled, like all of rtt,
+// with -ffp-contract=off: each expression is evaluated as written, in 32-bit float.
+#include <cmath>
+#include <numbers>
+#include <sstream>
+#include <vector>
+
+#include "rtt/camera.h"
+#include "rtt/error.h"
+
+namespace rtt {
+
+CameraRays::CameraRays(const Camera& camera, int width, int height, int aa)
+    : pos_(camera.position), width_(width), height_(height), aa_(aa) {
+    if (width <= 0 || height <= 0) throw Error("image size must be positive");
+    if (aa <= 0) throw Error("antialiasing factor must be positive");
+    if (!is_finite(camera.position) || !is_finite(camera.target) || !is_finite(camera.up) ||
+        !std::isfinite(camera.fovy_deg))
+        throw Error("camera has a NaN or infinite value");
+    if (!(camera.fovy_deg > 0.f && camera.fovy_deg < 180.f))
+        throw Error("camera fovy must be in (0, 180) degrees");
+    const Vec3f view = camera.target - camera.position;
+    if (dot(view, view) == 0.f) throw Error("camera target equals its position");
+    forward_ = normalize(view);
+    const Vec3f side = cross(forward_, camera.up);
+    if (!(dot(side, side) > 0.f)) throw Error("camera up vector is parallel to the view direction");
+    right_ = normalize(side);
+    up2_ = cross(right_, forward_);
+    aspect_ = float(width) / float(height);
+    const float radians = camera.fovy_deg * (std::numbers::pi_v<float> / 180.f);
+    h_ = std::tan(radians / 2.f);
+}
+
+Vec3f CameraRays::direction(int x, int y, int i, int j) const {
+    const float k = float(aa_);
+    const float u = (float(x) + (float(i) + 0.5f) / k) / float(width_);
+    const float v = (float(y) + (float(j) + 0.5f) / k) / float(height_);
+    const float a = (2.f * u - 1.f) * h_ * aspect_;
+    const float b = (2.f * v - 1.f) * h_;
+    return normalize(forward_ + a * right_ - b * up2_);
+}
+
+Camera default_camera_for(const Bbox3f& box, float fovy_deg) {
+    const Vec3f c = box.center();
+    const Vec3f d = box.diagonal();
+    float radius = 0.5f * length(d);
+    if (!(radius > 0.f)) radius = 1.f;
+    const float half = fovy_deg * (std::numbers::pi_v<float> / 360.f);
+    const float dist = radius / std::sin(half) * 1.05f;
+    // From the front-right-top diagonal, y up.
+    const Vec3f dir = normalize(Vec3f{1.f, 0.6f, 1.3f});
+    return Camera{c + dir * dist, c, Vec3f{0.f, 1.f, 0.f}, fovy_deg};
+}
+
+Camera parse_camera(const std::string& text) {
+    std::vector<float> v;
+    std::stringstream ss(text);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+        try {
+            size_t used = 0;
+            const float f = std::stof(item, &used);
+            if (used != item.size() && item.find_first_not_of(" \t", used) != std::string::npos)
+                throw Error("");
+            v.push_back(f);
+        } catch (...) {
+            throw Error("camera: '" + item + "' is not a number (expected px,py,pz,tx,ty,tz,ux,uy,uz,fovy)");
+        }
+    }
+    if (v.size() != 10)
+        throw Error("camera: expected 10 comma-separated numbers px,py,pz,tx,ty,tz,ux,uy,uz,fovy, got " +
+                    std::to_string(v.size()));
+    for (float f : v)
+        if (!std::isfinite(f)) throw Error("camera: NaN or infinite value");
+    return Camera{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, v[9]};
+}
+
+}  // namespace rtt

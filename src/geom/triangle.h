@@ -1,0 +1,78 @@
+// The single ray/triangle routine every tracer calls: the watertight test of
+// Woop, Benthin and Wald, "Watertight Ray/Triangle Intersection", JCGT 2(1), 2013.
+//
+// Why one routine: tracers must agree ray for ray, including on ties. Each tracer evaluates
+// exactly these float operations in exactly this order (SIMD versions lane by lane), compiled
+// without FMA contraction (-ffp-contract=off), so a triangle is hit or missed, and at which t,
+// identically everywhere.
+//
+// The ray is sheared so that it becomes the +z axis; the triangle's 2D edge functions U, V, W
+// around the origin decide the hit. A shared edge evaluates to exactly opposite values in the
+// two triangles that share it (a*b - c*d against c*d - a*b), so a ray through an edge or vertex
+// hits at least one of them: closed meshes are watertight. We accept U, V, W == 0 (no double
+// precision fallback); a ray exactly through an edge then hits both triangles and the tie at
+// equal t goes to the smaller index.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/platform.h"
+#include "rtt/math.h"
+#include "rtt/scene.h"
+
+namespace rtt {
+
+struct TriangleVerts {
+    Vec3f v0, v1, v2;
+};
+
+/// Vertex triples of every triangle of the scene, in triangle-index order.
+std::vector<TriangleVerts> gather_triangles(const Scene& scene);
+
+/// Per-ray constants of the watertight test: axis permutation and shear.
+struct WatertightRay {
+    Vec3f org;
+    int kx = 0, ky = 1, kz = 2;
+    float sx = 0.f, sy = 0.f, sz = 1.f;
+    float tmin = 0.f, tmax = pos_inf;
+
+    WatertightRay() = default;
+    explicit WatertightRay(const Ray& ray) : org(ray.org), tmin(ray.tmin), tmax(ray.tmax) {
+        kz = max_abs_axis(ray.dir);
+        kx = kz == 2 ? 0 : kz + 1;
+        ky = kx == 2 ? 0 : kx + 1;
+        if (ray.dir[kz] < 0.f) std::swap(kx, ky);  // keep the winding of the 2D edge functions
+        sx = ray.dir[kx] / ray.dir[kz];
+        sy = ray.dir[ky] / ray.dir[kz];
+        sz = 1.f / ray.dir[kz];
+    }
+};
+
+/// Returns true and sets t when the ray hits the triangle at t in [tmin, tmax].
+RTT_FORCEINLINE bool intersect_watertight(const WatertightRay& r, const TriangleVerts& tri, float& t) {
+    const Vec3f a = tri.v0 - r.org;
+    const Vec3f b = tri.v1 - r.org;
+    const Vec3f c = tri.v2 - r.org;
+    const float ax = a[r.kx] - r.sx * a[r.kz];
+    const float ay = a[r.ky] - r.sy * a[r.kz];
+    const float bx = b[r.kx] - r.sx * b[r.kz];
+    const float by = b[r.ky] - r.sy * b[r.kz];
+    const float cx = c[r.kx] - r.sx * c[r.kz];
+    const float cy = c[r.ky] - r.sy * c[r.kz];
+    const float u = cx * by - cy * bx;
+    const float v = ax * cy - ay * cx;
+    const float w = bx * ay - by * ax;
+    if ((u < 0.f || v < 0.f || w < 0.f) && (u > 0.f || v > 0.f || w > 0.f)) return false;
+    const float det = (u + v) + w;
+    if (det == 0.f) return false;
+    const float az = r.sz * a[r.kz];
+    const float bz = r.sz * b[r.kz];
+    const float cz = r.sz * c[r.kz];
+    const float tt = ((u * az + v * bz) + w * cz) / det;
+    if (!(tt >= r.tmin && tt <= r.tmax)) return false;  // also rejects NaN
+    t = tt;
+    return true;
+}
+
+}  // namespace rtt

@@ -1,0 +1,73 @@
+#include <cmath>
+#include <string>
+
+#include "rtt/error.h"
+#include "rtt/scene.h"
+
+namespace rtt {
+
+Bbox3f Scene::bounds() const {
+    Bbox3f box;
+    for (const TriangleIndices& t : triangles)
+        for (uint32_t v : t) box.extend(vertices[v]);
+    return box;
+}
+
+uint32_t Scene::add_material(const Material& m) {
+    materials.push_back(m);
+    return uint32_t(materials.size() - 1);
+}
+
+void Scene::add_mesh(const std::vector<Vec3f>& verts, const std::vector<TriangleIndices>& tris,
+                     uint32_t material, const std::vector<Vec3f>& mesh_normals) {
+    const auto base = uint32_t(vertices.size());
+    const bool had_normals = !normals.empty() || vertices.empty();
+    vertices.insert(vertices.end(), verts.begin(), verts.end());
+    // Normals are all-or-nothing per scene: fill the gap with zero vectors, which shading
+    // reads as "use the geometric normal".
+    if (!mesh_normals.empty() || !normals.empty()) {
+        if (!had_normals) normals.resize(base, Vec3f{0.f});
+        if (mesh_normals.size() == verts.size())
+            normals.insert(normals.end(), mesh_normals.begin(), mesh_normals.end());
+        else
+            normals.resize(vertices.size(), Vec3f{0.f});
+    }
+    for (const TriangleIndices& t : tris) {
+        triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+        triangle_material.push_back(material);
+    }
+}
+
+void validate(const Scene& scene) {
+    const std::string where = scene.name.empty() ? "scene" : scene.name;
+    if (scene.triangles.empty()) throw Error(where + ": no triangles");
+    if (scene.triangle_material.size() != scene.triangles.size())
+        throw Error(where + ": one material index per triangle expected");
+    if (scene.materials.empty()) throw Error(where + ": no materials");
+    if (!scene.normals.empty() && scene.normals.size() != scene.vertices.size())
+        throw Error(where + ": normals must be empty or one per vertex");
+    for (size_t i = 0; i < scene.vertices.size(); ++i)
+        if (!is_finite(scene.vertices[i]))
+            throw Error(where + ": vertex " + std::to_string(i) + " has a NaN or infinite coordinate");
+    for (size_t i = 0; i < scene.triangles.size(); ++i) {
+        for (uint32_t v : scene.triangles[i])
+            if (v >= scene.vertices.size())
+                throw Error(where + ": triangle " + std::to_string(i) + " uses vertex " +
+                            std::to_string(v) + " but there are " +
+                            std::to_string(scene.vertices.size()));
+        if (scene.triangle_material[i] >= scene.materials.size())
+            throw Error(where + ": triangle " + std::to_string(i) + " has material index " +
+                        std::to_string(scene.triangle_material[i]) + " out of range");
+    }
+    if (scene.lights.size() > max_lights)
+        throw Error(where + ": " + std::to_string(scene.lights.size()) + " lights; at most " +
+                    std::to_string(max_lights) + " are supported");
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+        const Light& l = scene.lights[i];
+        if (!is_finite(l.position) || !is_finite(l.direction) || !is_finite(l.color) ||
+            !std::isfinite(l.intensity))
+            throw Error(where + ": light " + std::to_string(i) + " has a NaN or infinite value");
+    }
+}
+
+}  // namespace rtt

@@ -1,0 +1,75 @@
+#include "trace/brute_force.h"
+
+namespace rtt {
+
+Hit trace_brute_force(std::span<const TriangleVerts> triangles, const Ray& ray) {
+    const WatertightRay wr(ray);
+    Hit best;
+    for (uint32_t i = 0; i < triangles.size(); ++i) {
+        float t;
+        if (intersect_watertight(wr, triangles[i], t) && closer(t, i, best)) best = {t, i};
+    }
+    return best;
+}
+
+bool occluded_brute_force(std::span<const TriangleVerts> triangles, const Ray& ray) {
+    const WatertightRay wr(ray);
+    for (const TriangleVerts& tri : triangles) {
+        float t;
+        if (intersect_watertight(wr, tri, t)) return true;
+    }
+    return false;
+}
+
+}  // namespace rtt
+
+// ---- the oracle behind the Tracer interface ("brute"), for tests and tiny scenes ----------
+#include "trace/factories.h"
+
+namespace rtt {
+namespace {
+
+class BruteForceTracer final : public Tracer {
+public:
+    explicit BruteForceTracer(const Scene& scene) : triangles_(gather_triangles(scene)) {}
+    std::string_view name() const override { return "brute"; }
+
+    void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
+                   std::span<SampleAnswer> answers) const override {
+        for (size_t i = 0; i < tile.rays.size(); ++i) hits[i] = trace_brute_force(triangles_, tile.rays[i]);
+        for (SampleAnswer& a : answers) a = SampleAnswer::traced;
+        if (stats) {
+            stats->tiles += 1;
+            stats->rays += tile.rays.size();
+            stats->traced += tile.rays.size();
+        }
+    }
+
+    void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
+                  std::span<SampleAnswer> answers) const override {
+        uint64_t n = 0;
+        for (size_t i = 0; i < tile.points.size(); ++i) {
+            visible[i] = 0;
+            if (!tile.active[i]) continue;
+            ++n;
+            visible[i] = !occluded_brute_force(triangles_, shadow_ray(tile.light, tile.points[i]));
+        }
+        for (SampleAnswer& a : answers) a = SampleAnswer::traced;
+        if (stats) {
+            stats->tiles += 1;
+            stats->rays += n;
+            stats->traced += n;
+        }
+    }
+
+private:
+    std::vector<TriangleVerts> triangles_;
+};
+
+}  // namespace
+
+std::unique_ptr<Tracer> make_brute_force_tracer(const Scene& scene, const KdTree&) {
+    return std::make_unique<BruteForceTracer>(scene);
+}
+
+}  // namespace rtt

@@ -1,0 +1,50 @@
+// Tracer kinds -> constructors. Each tracer lives in its own file and exposes one factory.
+#include <functional>
+
+#include "rtt/error.h"
+#include "rtt/tracer.h"
+#include "trace/factories.h"
+
+namespace rtt {
+
+TraceStats& TraceStats::operator+=(const TraceStats& o) {
+    tiles += o.tiles;
+    rtt_tiles += o.rtt_tiles;
+    rays += o.rays;
+    traced += o.traced;
+    answered += o.answered;
+    relevant_sum += o.relevant_sum;
+    return *this;
+}
+
+namespace {
+
+struct TracerEntry {
+    const char* kind;
+    std::function<std::unique_ptr<Tracer>(const Scene&, const KdTree&)> make;
+};
+
+const std::vector<TracerEntry>& registry() {
+    static const std::vector<TracerEntry> entries = {
+        {"brute", make_brute_force_tracer},
+    };
+    return entries;
+}
+
+}  // namespace
+
+std::vector<std::string> tracer_kinds() {
+    std::vector<std::string> kinds;
+    for (const TracerEntry& e : registry()) kinds.emplace_back(e.kind);
+    return kinds;
+}
+
+std::unique_ptr<Tracer> make_tracer(std::string_view kind, const Scene& scene, const KdTree& tree) {
+    for (const TracerEntry& e : registry())
+        if (kind == e.kind) return e.make(scene, tree);
+    std::string known;
+    for (const TracerEntry& e : registry()) known += (known.empty() ? "" : ", ") + std::string(e.kind);
+    throw Error("unknown tracer '" + std::string(kind) + "' (this build has: " + known + ")");
+}
+
+}  // namespace rtt
