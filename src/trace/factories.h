@@ -10,5 +10,6 @@
 namespace rtt {
 
 std::unique_ptr<Tracer> make_brute_force_tracer(const Scene& scene, const KdTree& tree);
+std::unique_ptr<Tracer> make_ray_tracer(const Scene& scene, const KdTree& tree);
 
 }  // namespace rtt

@@ -26,6 +26,7 @@ struct TracerEntry {
 
 const std::vector<TracerEntry>& registry() {
     static const std::vector<TracerEntry> entries = {
+        {"ray", make_ray_tracer},
         {"brute", make_brute_force_tracer},
     };
     return entries;

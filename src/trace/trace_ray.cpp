@@ -1,0 +1,156 @@
+#include "trace/trace_ray.h"
+
+#include <cmath>
+
+#include "trace/factories.h"
+
+namespace rtt {
+
+Bbox3f padded_bounds(const Bbox3f& box) {
+    const Vec3f d = box.diagonal();
+    const float extent = std::max(std::max(d.x, d.y), d.z);
+    const Vec3f pad = Vec3f(extent * kd_box_pad) + abs(box.lo) * kd_box_pad + abs(box.hi) * kd_box_pad;
+    return {box.lo - pad, box.hi + pad};
+}
+
+namespace {
+
+/// Clips [t0, t1] to the padded box; returns false when nothing is left.
+bool clip_to_box(const Bbox3f& box, const Vec3f& org, const Vec3f& inv, float& t0, float& t1) {
+    for (int a = 0; a < 3; ++a) {
+        float tn = (box.lo[a] - org[a]) * inv[a];
+        float tf = (box.hi[a] - org[a]) * inv[a];
+        if (tn > tf) std::swap(tn, tf);
+        if (tn > t0) t0 = tn;  // a NaN comparison is false: NaN never shrinks the interval
+        if (tf < t1) t1 = tf;
+    }
+    return t0 <= t1;
+}
+
+struct StackEntry {
+    uint32_t node;
+    float t0, t1;
+};
+
+template <bool AnyHit>
+Hit traverse(const KdTree& tree, std::span<const TriangleVerts> triangles, const Ray& ray) {
+    Hit best;
+    if (tree.nodes.empty()) return best;
+    WatertightRay wr(ray);
+    const Vec3f inv{1.f / ray.dir.x, 1.f / ray.dir.y, 1.f / ray.dir.z};
+    const int first_is_above[3] = {std::signbit(ray.dir.x), std::signbit(ray.dir.y),
+                                   std::signbit(ray.dir.z)};
+    float t0 = ray.tmin, t1 = ray.tmax;
+    if (!clip_to_box(padded_bounds(tree.bounds), ray.org, inv, t0, t1)) return best;
+
+    StackEntry stack[kd_max_depth + 1];
+    int top = 0;
+    stack[top++] = {0, t0, t1};
+    const KdNode* nodes = tree.nodes.data();
+    while (top > 0) {
+        StackEntry e = stack[--top];
+        if (e.t0 > best.t) continue;
+        uint32_t index = e.node;
+        float ta = e.t0, tb = e.t1;
+        while (!nodes[index].is_leaf()) {
+            const KdNode& n = nodes[index];
+            const int axis = n.axis();
+            const uint32_t below = index + 1, above = n.above_child();
+            const uint32_t first = first_is_above[axis] ? above : below;
+            const uint32_t second = first_is_above[axis] ? below : above;
+            const float d = (n.split - ray.org[axis]) * inv[axis];
+            if (std::isnan(d)) [[unlikely]] {
+                stack[top++] = {second, ta, tb};
+                index = first;
+                continue;
+            }
+            const float m = std::fabs(d) * kd_margin;
+            const float first_hi = std::min(tb, d + m);
+            const float second_lo = std::max(ta, d - m);
+            const bool visit_first = ta <= first_hi;
+            const bool visit_second = second_lo <= tb;
+            if (visit_first && visit_second) {
+                stack[top++] = {second, second_lo, tb};
+                index = first;
+                tb = first_hi;
+            } else if (visit_first) {
+                index = first;
+                tb = first_hi;
+            } else if (visit_second) {
+                index = second;
+                ta = second_lo;
+            } else {
+                index = invalid_triangle;  // interval empty (cannot happen for ta <= tb)
+                break;
+            }
+        }
+        if (index == invalid_triangle) continue;
+        const KdNode& leaf = nodes[index];
+        const uint32_t* ids = tree.leaf_triangles.data() + leaf.first_triangle();
+        for (uint32_t k = 0, n = leaf.triangle_count(); k < n; ++k) {
+            const uint32_t id = ids[k];
+            float t;
+            if (!intersect_watertight(wr, triangles[id], t)) continue;
+            if constexpr (AnyHit) return Hit{t, id};
+            if (closer(t, id, best)) {
+                best = {t, id};
+                wr.tmax = t;  // inclusive: a later equal-t hit still reaches the index tie-break
+            }
+        }
+    }
+    return best;
+}
+
+class RayTracer final : public Tracer {
+public:
+    RayTracer(const Scene& scene, const KdTree& tree) : tree_(tree), triangles_(gather_triangles(scene)) {}
+    std::string_view name() const override { return "ray"; }
+
+    void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
+                   std::span<SampleAnswer> answers) const override {
+        for (size_t i = 0; i < tile.rays.size(); ++i) hits[i] = trace_ray(tree_, triangles_, tile.rays[i]);
+        for (SampleAnswer& a : answers) a = SampleAnswer::traced;
+        if (stats) {
+            stats->tiles += 1;
+            stats->rays += tile.rays.size();
+            stats->traced += tile.rays.size();
+        }
+    }
+
+    void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
+                  std::span<SampleAnswer> answers) const override {
+        uint64_t n = 0;
+        for (size_t i = 0; i < tile.points.size(); ++i) {
+            visible[i] = 0;
+            if (!tile.active[i]) continue;
+            ++n;
+            visible[i] = !occluded_ray(tree_, triangles_, shadow_ray(tile.light, tile.points[i]));
+        }
+        for (SampleAnswer& a : answers) a = SampleAnswer::traced;
+        if (stats) {
+            stats->tiles += 1;
+            stats->rays += n;
+            stats->traced += n;
+        }
+    }
+
+private:
+    const KdTree& tree_;
+    std::vector<TriangleVerts> triangles_;
+};
+
+}  // namespace
+
+Hit trace_ray(const KdTree& tree, std::span<const TriangleVerts> triangles, const Ray& ray) {
+    return traverse<false>(tree, triangles, ray);
+}
+
+bool occluded_ray(const KdTree& tree, std::span<const TriangleVerts> triangles, const Ray& ray) {
+    return traverse<true>(tree, triangles, ray).valid();
+}
+
+std::unique_ptr<Tracer> make_ray_tracer(const Scene& scene, const KdTree& tree) {
+    return std::make_unique<RayTracer>(scene, tree);
+}
+
+}  // namespace rtt

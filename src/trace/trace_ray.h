@@ -1,0 +1,44 @@
+// The reference tracer: one ray at a time, stack-based front-to-back kd-tree traversal.
+//
+// Traversal semantics every kd-tree tracer (single ray, packets, RTT corners) follows, so that
+// each returns exactly the brute-force answer (closest (t, index) over all triangles with t in
+// [tmin, tmax]) despite rounding in the split distances:
+//
+//  * The ray's parameter interval is clipped to the tree bounds padded by kd_box_pad relative
+//    to their extent; a NaN slab distance (origin on a slab face, direction 0 along it) never
+//    shrinks the interval.
+//  * At an inner node, d = (split - org[axis]) * inv_dir[axis]. The child on the side the ray
+//    comes from first is `below` when the direction component is +0 or positive and `above` when
+//    its sign bit is set; it covers t <= d, the other covers t >= d. With the margin
+//    m = kd_margin * |d|, the first child gets [ta, min(tb, d + m)], the second
+//    [max(ta, d - m), tb]; a child is visited when its interval is not empty (lo <= hi). A NaN d
+//    (origin on the plane, direction parallel to it) visits both with [ta, tb].
+//  * Leaf triangles are tested against the ray's own [tmin, best.t] (inclusive, so equal-t ties
+//    reach the index comparison), not the leaf's interval.
+//  * A popped node whose interval starts after best.t is skipped (start == best.t is visited).
+//  * Any-hit returns at the first triangle met in [tmin, tmax].
+#pragma once
+
+#include <span>
+
+#include "geom/triangle.h"
+#include "rtt/kdtree.h"
+#include "rtt/math.h"
+
+namespace rtt {
+
+/// Relative margin on split distances (see above): far larger than their rounding error.
+inline constexpr float kd_margin = 1.0f / 65536.0f;
+/// Relative padding of the tree bounds for the initial clip.
+inline constexpr float kd_box_pad = 1.0f / 65536.0f;
+
+/// Bounds padded as traversal uses them.
+Bbox3f padded_bounds(const Bbox3f& box);
+
+/// Closest hit of one ray through the tree.
+Hit trace_ray(const KdTree& tree, std::span<const TriangleVerts> triangles, const Ray& ray);
+
+/// True when any triangle meets the ray within [tmin, tmax].
+bool occluded_ray(const KdTree& tree, std::span<const TriangleVerts> triangles, const Ray& ray);
+
+}  // namespace rtt
