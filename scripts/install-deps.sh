@@ -6,6 +6,7 @@ packages=(
   build-essential cmake pkg-config
   libassimp-dev libtbb-dev libcli11-dev nlohmann-json3-dev libpng-dev libstb-dev
   libgtest-dev libbenchmark-dev libembree-dev
+  clang libclang-rt-14-dev  # scripts/fuzz.sh: libFuzzer and the sanitizer runtimes for clang 14
 )
 
 missing=()

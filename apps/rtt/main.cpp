@@ -1,2 +1,48 @@
+// The `rtt` program. Errors of any kind end here as one line on stderr and a non-zero exit:
+// rtt::Error (bad input), CLI11 parse errors (bad options), std::bad_alloc.
 #include <cstdio>
-int main() { std::puts("rtt"); return 0; }
+#include <exception>
+#include <new>
+#include <string>
+
+#include "commands.h"
+#include "rtt/error.h"
+
+namespace {
+
+int fail(std::string message, int code) {
+    for (char& c : message)
+        if (c == '\n' || c == '\r') c = ' ';
+    std::fprintf(stderr, "rtt: error: %s\n", message.c_str());
+    return code;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{
+        "rtt: ray tracing with SIMD shaft culling (Dmitriev, Havran, Seidel 2004).\n"
+        "Without a subcommand, renders the built-in scene 'room' to room.png and prints\n"
+        "the statistics."};
+    app.name("rtt");
+    app.require_subcommand(0, 1);
+    app.set_version_flag("--version", "rtt 0.1.0");
+    rtt::cli::add_render_command(app);
+    rtt::cli::add_info_command(app);
+    rtt::cli::add_scenes_command(app);
+    rtt::cli::add_bench_command(app);
+    try {
+        app.parse(argc, argv);  // runs the chosen subcommand's callback
+        if (app.get_subcommands().empty()) rtt::cli::run_default_job();
+        return 0;
+    } catch (const CLI::ParseError& e) {
+        if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+        return fail(e.what(), 2);
+    } catch (const rtt::Error& e) {
+        return fail(e.what(), 1);
+    } catch (const std::bad_alloc&) {
+        return fail("out of memory", 1);
+    } catch (const std::exception& e) {
+        return fail(e.what(), 1);
+    }
+}

@@ -65,7 +65,9 @@ struct Scene {
 };
 
 /// Throws rtt::Error when the scene cannot be rendered: no triangles, indices out of range,
-/// NaN or infinite coordinates, material indices out of range, more than 32 lights.
+/// NaN or infinite coordinates, material indices out of range, more than 32 lights, NaN or
+/// out-of-range material, light or camera values (negative colours, mirror outside [0, 1],
+/// spot angles not 0 <= inner <= outer <= 180, fovy outside (0, 180)).
 void validate(const Scene& scene);
 
 /// Largest number of lights a scene may have (RTTS buffers keep one bit per light).

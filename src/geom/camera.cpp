@@ -22,10 +22,20 @@ CameraRays::CameraRays(const Camera& camera, int width, int height, int aa)
     const Vec3f view = camera.target - camera.position;
     if (dot(view, view) == 0.f) throw Error("camera target equals its position");
     forward_ = normalize(view);
+    // The formulas are CONVENTIONS' and stay as written; but in float a vector longer than about
+    // 1e19 (its squared length overflows) or shorter than about 1e-19 (it underflows) normalizes
+    // to zero, NaN or a non-unit vector, and every ray would silently go the same way.
+    const auto unit = [](const Vec3f& v) { return std::fabs(length(v) - 1.f) <= 1e-4f; };
+    if (!unit(forward_))
+        throw Error("camera target - position must have a length between about 1e-18 and 1e18 "
+                    "(float cannot normalize it otherwise)");
     const Vec3f side = cross(forward_, camera.up);
     if (!(dot(side, side) > 0.f)) throw Error("camera up vector is parallel to the view direction");
     right_ = normalize(side);
     up2_ = cross(right_, forward_);
+    if (!unit(right_))
+        throw Error("camera up vector is nearly parallel to the view direction, or its length is "
+                    "outside about 1e-18..1e18 (float cannot normalize it)");
     aspect_ = float(width) / float(height);
     const float radians = camera.fovy_deg * (std::numbers::pi_v<float> / 180.f);
     h_ = std::tan(radians / 2.f);

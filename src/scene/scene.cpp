@@ -2,9 +2,16 @@
 #include <string>
 
 #include "rtt/error.h"
+#include "rtt/memory_budget.h"
 #include "rtt/scene.h"
 
 namespace rtt {
+namespace {
+/// Finite and >= 0 in every component (false for NaN).
+bool non_negative(const Vec3f& v) {
+    return is_finite(v) && v.x >= 0.f && v.y >= 0.f && v.z >= 0.f;
+}
+}  // namespace
 
 Bbox3f Scene::bounds() const {
     Bbox3f box;
@@ -20,6 +27,9 @@ uint32_t Scene::add_material(const Material& m) {
 
 void Scene::add_mesh(const std::vector<Vec3f>& verts, const std::vector<TriangleIndices>& tris,
                      uint32_t material, const std::vector<Vec3f>& mesh_normals) {
+    // Instancing lets a small file ask for any number of triangles: refuse before growing.
+    require_memory(scene_memory_bytes(vertices.size() + verts.size(), triangles.size() + tris.size()),
+                   "a scene of " + std::to_string(triangles.size() + tris.size()) + " triangles");
     const auto base = uint32_t(vertices.size());
     const bool had_normals = !normals.empty() || vertices.empty();
     vertices.insert(vertices.end(), verts.begin(), verts.end());
@@ -67,6 +77,26 @@ void validate(const Scene& scene) {
         if (!is_finite(l.position) || !is_finite(l.direction) || !is_finite(l.color) ||
             !std::isfinite(l.intensity))
             throw Error(where + ": light " + std::to_string(i) + " has a NaN or infinite value");
+        if (!non_negative(l.color) || !(l.intensity >= 0.f))
+            throw Error(where + ": light " + std::to_string(i) +
+                        " has a negative colour or intensity");
+        if (!(l.inner_angle_deg >= 0.f && l.inner_angle_deg <= l.outer_angle_deg &&
+              l.outer_angle_deg <= 180.f))
+            throw Error(where + ": light " + std::to_string(i) +
+                        " needs 0 <= inner angle <= outer angle <= 180 degrees");
+    }
+    for (size_t i = 0; i < scene.materials.size(); ++i) {
+        const Material& m = scene.materials[i];
+        if (!non_negative(m.diffuse) || !non_negative(m.specular) || !(m.shininess >= 0.f) ||
+            !std::isfinite(m.shininess) || !(m.mirror >= 0.f && m.mirror <= 1.f))
+            throw Error(where + ": material " + std::to_string(i) + " (" + m.name +
+                        ") has a NaN, infinite or out-of-range value");
+    }
+    if (scene.camera) {
+        const Camera& c = *scene.camera;
+        if (!is_finite(c.position) || !is_finite(c.target) || !is_finite(c.up) ||
+            !(c.fovy_deg > 0.f && c.fovy_deg < 180.f))
+            throw Error(where + ": camera has a NaN or infinite value, or fovy outside (0, 180)");
     }
 }
 

@@ -3,6 +3,7 @@
 
 #include "rtt/error.h"
 #include "rtt/tracer.h"
+#include "simd/simd.h"
 #include "trace/factories.h"
 
 namespace rtt {
@@ -28,6 +29,19 @@ const std::vector<TracerEntry>& registry() {
     static const std::vector<TracerEntry> entries = {
         {"ray", make_ray_tracer},
         {"brute", make_brute_force_tracer},
+        {"packet", make_packet_tracer<4>},
+        {"rtt", make_rtt_tracer},
+        {"rtt-paper", make_rtt_paper_tracer},
+#ifdef RTT_HAVE_SIMD8
+        {"packet8", make_packet_tracer<8>},
+#endif
+#ifdef RTT_HAVE_SIMD16
+        {"packet16", make_packet_tracer<16>},
+#endif
+#ifdef RTT_HAVE_EMBREE
+        {"embree", make_embree_tracer},
+        {"embree1", make_embree1_tracer},
+#endif
     };
     return entries;
 }

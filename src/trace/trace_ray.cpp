@@ -27,6 +27,16 @@ bool clip_to_box(const Bbox3f& box, const Vec3f& org, const Vec3f& inv, float& t
     return t0 <= t1;
 }
 
+/// The ray-parameter length of the scene seen from the ray's origin: the largest coordinate
+/// distance from the origin to the box over the largest direction component (see trace_ray.h).
+float scene_t_scale(const Bbox3f& box, const Ray& ray) {
+    float dist = 0.f;
+    for (int a = 0; a < 3; ++a)
+        dist = std::max({dist, std::fabs(box.lo[a] - ray.org[a]), std::fabs(box.hi[a] - ray.org[a])});
+    const Vec3f ad = abs(ray.dir);
+    return dist / std::max({ad.x, ad.y, ad.z});
+}
+
 struct StackEntry {
     uint32_t node;
     float t0, t1;
@@ -41,7 +51,9 @@ Hit traverse(const KdTree& tree, std::span<const TriangleVerts> triangles, const
     const int first_is_above[3] = {std::signbit(ray.dir.x), std::signbit(ray.dir.y),
                                    std::signbit(ray.dir.z)};
     float t0 = ray.tmin, t1 = ray.tmax;
-    if (!clip_to_box(padded_bounds(tree.bounds), ray.org, inv, t0, t1)) return best;
+    const Bbox3f box = padded_bounds(tree.bounds);
+    if (!clip_to_box(box, ray.org, inv, t0, t1)) return best;
+    const float t_scale = scene_t_scale(box, ray);
 
     StackEntry stack[kd_max_depth + 1];
     int top = 0;
@@ -64,7 +76,10 @@ Hit traverse(const KdTree& tree, std::span<const TriangleVerts> triangles, const
                 index = first;
                 continue;
             }
-            const float m = std::fabs(d) * kd_margin;
+            // d = +-inf from a zero direction component (origin off the plane) is exact: the ray
+            // never crosses the plane, so no margin (inf * margin would visit both children).
+            // An overflowing 1 / tiny component keeps the infinite margin: both, conservatively.
+            const float m = ray.dir[axis] == 0.f ? 0.f : (std::fabs(d) + t_scale) * kd_margin;
             const float first_hi = std::min(tb, d + m);
             const float second_lo = std::max(ta, d - m);
             const bool visit_first = ta <= first_hi;

@@ -10,9 +10,17 @@
 //  * At an inner node, d = (split - org[axis]) * inv_dir[axis]. The child on the side the ray
 //    comes from first is `below` when the direction component is +0 or positive and `above` when
 //    its sign bit is set; it covers t <= d, the other covers t >= d. With the margin
-//    m = kd_margin * |d|, the first child gets [ta, min(tb, d + m)], the second
+//    m = kd_margin * (|d| + s), the first child gets [ta, min(tb, d + m)], the second
 //    [max(ta, d - m), tb]; a child is visited when its interval is not empty (lo <= hi). A NaN d
-//    (origin on the plane, direction parallel to it) visits both with [ta, tb].
+//    (origin on the plane, direction parallel to it) visits both with [ta, tb]; an infinite d
+//    from a zero direction component (origin off the plane) is exact and gets m = 0.
+//    s = max over axes of |padded bound - org| / max|dir| is the ray-parameter length of the
+//    scene seen from the origin. Why it is needed: the watertight test's hit distance has an
+//    ABSOLUTE error of a few ulps of s (t comes out of differences of vertex depths, which are
+//    up to s), not a relative one. With origins close to a surface (rays from inside, shadow
+//    rays near their ends) coplanar triangles hit at the same true t can come out a few 1e-10
+//    apart while t itself is 1e-3, and a purely relative margin would skip (or clip away at
+//    tmin/tmax) the cell of the one brute force picks. kd_margin * s is ~2^8 such errors.
 //  * Leaf triangles are tested against the ray's own [tmin, best.t] (inclusive, so equal-t ties
 //    reach the index comparison), not the leaf's interval.
 //  * A popped node whose interval starts after best.t is skipped (start == best.t is visited).

@@ -1,0 +1,186 @@
+// `rtt bench`: the paper's experiments (section 4) and Embree, on the same rays, one command each.
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+
+#include "bench/experiments.h"
+#include "bench/results_doc.h"
+#include "bench/workload.h"
+#include "commands.h"
+#include "rtt/error.h"
+#include "rtt/io.h"
+
+namespace rtt::cli {
+namespace {
+
+struct BenchArgs {
+    bool quick = false;
+    bool long_run = false;
+    int threads = 1;
+    int repetitions = 0;  // 0 = mode default
+    std::string scenes = "room,office,plants";
+    std::string out_dir = "bench-results";
+    std::string json;
+    std::string markdown;
+    std::string clock = "cpu";
+    std::string command_line;
+};
+
+std::vector<std::string> split_list(const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream ss(text);
+    std::string item;
+    while (std::getline(ss, item, ','))
+        if (!item.empty()) out.push_back(item);
+    if (out.empty())
+        throw Error("--scenes: expected a comma-separated list of scenes, got '" + text + "'");
+    return out;
+}
+
+using Experiment = bench::ExperimentResult (*)(const bench::BenchConfig&, bench::SceneCache&);
+
+void run(const BenchArgs& args, const std::vector<Experiment>& experiments) {
+    if (args.threads < 1) throw Error("--threads must be at least 1");
+    if (args.repetitions < 0) throw Error("--reps must be at least 1");
+    if (args.clock != "cpu" && args.clock != "wall") throw Error("--clock must be cpu or wall");
+    if (args.quick && args.long_run) throw Error("--quick and --long exclude each other");
+    bench::BenchConfig config;
+    config.scenes = split_list(args.scenes);
+    for (const std::string& s : config.scenes) bench::require_scene(s);
+    config.threads = args.threads;
+    config.mode = args.quick      ? bench::BenchMode::quick
+                  : args.long_run ? bench::BenchMode::long_run
+                                  : bench::BenchMode::full;
+    config.repetitions = args.repetitions > 0 ? args.repetitions : args.quick ? 1 : 3;
+    config.clock = args.clock == "cpu" ? bench::ClockKind::cpu : bench::ClockKind::wall;
+    config.out_dir = args.out_dir;
+
+    bench::ResultsDocument doc;
+    doc.machine = bench::machine_info();
+    doc.command = args.command_line;
+    doc.mode = config.mode;
+    doc.threads = config.threads;
+    doc.repetitions = config.repetitions;
+    doc.clock = config.clock;
+    std::printf(
+        "rtt bench: %s mode, %d repetition(s), %d thread(s); %s, %s, commit %s, load %.2f\n",
+        bench::mode_name(config.mode), config.repetitions, config.threads,
+        doc.machine.cpu_model.c_str(), doc.machine.isa.c_str(), doc.machine.git_commit.c_str(),
+        doc.machine.load_average);
+    std::fflush(stdout);
+
+    // The outputs are rewritten after every experiment, so that a long run stopped halfway
+    // keeps what it measured (each file is replaced whole, never left half-written).
+    const auto start = std::chrono::steady_clock::now();
+    auto save = [&] {
+        doc.seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        doc.load_end = bench::load_average();
+        if (!args.json.empty()) bench::write_json_file(args.json, bench::results_json(doc));
+        if (!args.markdown.empty()) {
+            const std::string dir = std::filesystem::path(args.markdown).parent_path().string();
+            const std::string md = bench::results_markdown(doc, dir.empty() ? "." : dir);
+            write_file_atomically(args.markdown,
+                                  [&](std::FILE* f) { std::fwrite(md.data(), 1, md.size(), f); });
+        }
+    };
+    bench::SceneCache scenes;
+    for (Experiment e : experiments) {
+        doc.experiments.push_back(e(config, scenes));
+        save();
+    }
+
+    std::printf("\nWhere we stand:\n");
+    for (const bench::ExperimentResult& e : doc.experiments)
+        for (const std::string& f : e.findings) std::printf("  %s: %s\n", e.id.c_str(), f.c_str());
+    std::printf("rtt bench: %.1f minutes, load %.2f at the end\n", doc.seconds / 60.0,
+                doc.load_end);
+    for (const std::string* path : {&args.json, &args.markdown})
+        if (!path->empty()) std::printf("wrote %s\n", path->c_str());
+}
+
+}  // namespace
+
+void add_bench_command(CLI::App& app) {
+    auto args = std::make_shared<BenchArgs>();
+    CLI::App* bench = app.add_subcommand(
+        "bench", "The paper's experiments (Table 1, Figures 5, 7, 8) and Embree, on the same rays");
+    bench->require_subcommand(1);
+    bench->footer(
+        "Every tracer answers the same rays: the renderer's 4x4-pixel tiles and, per tile and "
+        "light,\n"
+        "the shadow segments from the packet tracer's hit points. Answers are checked against the\n"
+        "4-wide packet tracer before timing (mismatches printed). Timed: the median of --reps\n"
+        "repetitions after a checking pass, tracers interleaved; 1 thread unless --threads; CPU "
+        "time\n"
+        "of the tracing thread (--clock wall for wall time; several threads always use wall "
+        "time).\n"
+        "Sizes: the paper's, except Figure 7 at 320x240 and Embree's K=4 at 512x384 in the "
+        "default\n"
+        "full mode (`rtt bench all`: about 15 minutes on an idle 2-core machine); --long runs "
+        "those\n"
+        "at 640x480 and 1024x768 too (about an hour); --quick is a 1-2 minute smoke run.");
+    bench->add_flag("--quick", args->quick, "Smoke run: tiny images, 1 repetition");
+    bench->add_flag("--long", args->long_run,
+                    "Every experiment at the paper's / issue's exact size");
+    bench->add_option("--threads", args->threads, "Tracing threads (default 1)")
+        ->capture_default_str();
+    bench->add_option("--reps", args->repetitions, "Timed repetitions (default 3; 1 with --quick)");
+    bench->add_option("--scenes", args->scenes, "Comma-separated built-in scenes or scene files")
+        ->capture_default_str();
+    bench->add_option("--out-dir", args->out_dir, "Folder for plots and images")
+        ->capture_default_str();
+    bench->add_option("--json", args->json, "Write every figure and the machine details as JSON");
+    bench->add_option("--markdown", args->markdown,
+                      "Write the results as Markdown (docs/RESULTS.md)");
+    bench->add_option("--clock", args->clock, "Single-thread clock: cpu or wall")
+        ->capture_default_str();
+
+    struct Sub {
+        const char* name;
+        const char* help;
+        std::vector<Experiment> experiments;
+    };
+    const Sub subs[] = {
+        {"table1",
+         "Table 1: packet vs rtt on each scene at 640x480, no antialiasing",
+         {bench::run_table1}},
+        {"fig7",
+         "Figure 7: speed-up rtt/packet against antialiasing 1x1..6x6 (table + SVG)",
+         {bench::run_fig7}},
+        {"fig8",
+         "Figure 8: speed-up against resolution 320x240..2048x1536 (table + SVG)",
+         {bench::run_fig8}},
+        {"hq",
+         "Room at 2048x1536 with 6x6 antialiasing (the paper's 2.43x point)",
+         {bench::run_hq}},
+        {"fig5",
+         "Figure 5: office and its RTT maps for primary and shadow rays (PNG)",
+         {bench::run_fig5}},
+        {"embree",
+         "Embree beside packet, packet16 and rtt at 1024x768, K=1 and 4, 1 thread and all cores",
+         {bench::run_embree}},
+        {"all",
+         "Everything above, in that order",
+         {bench::run_table1, bench::run_fig7, bench::run_fig8, bench::run_hq, bench::run_fig5,
+          bench::run_embree}},
+    };
+    for (const Sub& s : subs) {
+        CLI::App* sub = bench->add_subcommand(s.name, s.help);
+        sub->fallthrough();  // `rtt bench all --quick` and `rtt bench --quick all` alike
+        const std::vector<Experiment> experiments = s.experiments;
+        const std::string name = s.name;
+        sub->callback([args, experiments, &app, name] {
+            args->command_line = "rtt bench " + name;
+            for (const CLI::Option* o : app.get_subcommand("bench")->get_options())
+                if (o->count() > 0 && o->get_name() != "--help")
+                    args->command_line +=
+                        " " + o->get_name() +
+                        (o->get_expected_min() > 0 ? " " + o->as<std::string>() : "");
+            run(*args, experiments);
+        });
+    }
+}
+
+}  // namespace rtt::cli

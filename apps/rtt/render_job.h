@@ -1,0 +1,50 @@
+// One `rtt render` run: the options as given on the command line, and the function that
+// carries them out. The default main job and `rtt bench` reuse it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "rtt/render.h"
+#include "scene_args.h"
+
+namespace rtt::cli {
+
+struct RenderJob {
+    SceneArgs scene;
+    std::string camera;  ///< "px,py,pz,tx,ty,tz,ux,uy,uz,fovy"; empty = scene's or default.
+    std::string size = "640x480";  ///< "WxH".
+    int aa = 1;
+    std::vector<std::string> lights;  ///< "x,y,z" each; empty = scene's lights.
+    std::string tracer;               ///< Empty = default_tracer_kind().
+    int threads = 0;                  ///< 0 = all cores.
+    int max_depth = 4;
+    std::string image;        ///< -o PNG.
+    std::string hits;         ///< RTTH output.
+    std::string shadows;      ///< RTTS output.
+    std::string map_primary;  ///< Figure 5b PNG.
+    std::string map_shadow;   ///< Figure 5c PNG.
+    int map_light = 0;
+    bool stats = false;
+    std::string stats_json;
+    bool quiet = false;
+};
+
+/// What a job did, for callers that report more than the job itself prints.
+struct RenderJobResult {
+    std::string scene_label;
+    size_t triangles = 0;
+    std::string tracer;
+    double kd_build_seconds = 0;
+    RenderResult result;
+};
+
+/// "rtt" if this build has it, else "packet", else "ray".
+std::string default_tracer_kind();
+
+/// Loads the scene, applies --camera / --light, builds the kd-tree and tracer, renders and
+/// writes every requested output (each whole or not at all). Throws rtt::Error on bad input;
+/// everything that can be checked without rendering is checked before the render starts.
+RenderJobResult run_render_job(const RenderJob& job);
+
+}  // namespace rtt::cli

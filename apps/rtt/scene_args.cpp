@@ -1,0 +1,55 @@
+#include "scene_args.h"
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+#include <vector>
+
+#include "rtt/builtin_scenes.h"
+#include "rtt/error.h"
+#include "rtt/scene_io.h"
+
+namespace rtt::cli {
+
+void add_scene_options(CLI::App& command, SceneArgs& args) {
+    auto* mesh =
+        command.add_option("--mesh", args.mesh,
+                           "Mesh file in any format assimp reads (OBJ, PLY, OFF, STL, glTF, ...); "
+                           "rendered with a grey material");
+    auto* scene = command.add_option("--scene", args.scene,
+                                     "Built-in scene name (see `rtt scenes`) or a JSON scene file");
+    mesh->excludes(scene);
+}
+
+LoadedScene load_scene(const SceneArgs& args) {
+    if (args.mesh.empty() == args.scene.empty())
+        throw Error("give exactly one of --mesh FILE or --scene NAME|FILE.json");
+    LoadedScene out;
+    if (!args.mesh.empty()) {
+        out.scene = load_mesh_file(args.mesh);
+        out.from_mesh = true;
+        out.label = args.mesh;
+        // Geometry only: CONVENTIONS' --mesh needs no materials, lights or camera.
+        out.scene.materials.assign(1, Material{});
+        out.scene.triangle_material.assign(out.scene.triangles.size(), 0u);
+        out.scene.lights.clear();
+        out.scene.camera.reset();
+        return out;
+    }
+    out.label = args.scene;
+    if (is_builtin_scene(args.scene)) {
+        out.scene = make_builtin_scene(args.scene);
+    } else if (std::filesystem::exists(args.scene) || args.scene.find('/') != std::string::npos ||
+               args.scene.find('.') != std::string::npos) {
+        out.scene = load_scene_file(args.scene);
+    } else {
+        std::string names;
+        for (const BuiltinSceneInfo& s : builtin_scenes())
+            names += (names.empty() ? "" : ", ") + s.name;
+        throw Error("unknown scene '" + args.scene + "' (built-in scenes: " + names +
+                    "; or give a JSON scene file)");
+    }
+    return out;
+}
+
+}  // namespace rtt::cli

@@ -1,0 +1,32 @@
+// Choosing and loading the scene of a subcommand: --mesh FILE or --scene NAME|FILE.json.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "rtt/math.h"
+#include "rtt/scene.h"
+
+namespace rtt::cli {
+
+struct SceneArgs {
+    std::string mesh;   ///< --mesh FILE
+    std::string scene;  ///< --scene NAME | FILE.json
+};
+
+/// Adds --mesh and --scene (mutually exclusive) to a subcommand.
+void add_scene_options(CLI::App& command, SceneArgs& args);
+
+struct LoadedScene {
+    Scene scene;
+    bool from_mesh = false;  ///< --mesh: geometry only (grey material, no lights, no camera).
+    std::string label;       ///< Scene name or file, for messages and statistics.
+};
+
+/// Loads what the arguments name. A --mesh keeps only the geometry: every triangle gets the
+/// default grey material, and the file's lights and cameras are dropped. A --scene is a
+/// built-in scene's name or a scene file (JSON, or any mesh format assimp reads). Throws
+/// rtt::Error when neither or both are given, the scene is unknown or the file is bad.
+LoadedScene load_scene(const SceneArgs& args);
+
+}  // namespace rtt::cli

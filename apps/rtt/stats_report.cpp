@@ -1,0 +1,78 @@
+#include "stats_report.h"
+
+#include <nlohmann/json.hpp>
+
+#include "rtt/io.h"
+
+namespace rtt::cli {
+namespace {
+
+struct KindRow {
+    const char* name;
+    const KindStats* stats;
+};
+
+nlohmann::json kind_json(const KindStats& k) {
+    const TraceStats& t = k.trace;
+    return {{"tiles", t.tiles},
+            {"rtt_tiles", t.rtt_tiles},
+            {"rays", t.rays},
+            {"traced", t.traced},
+            {"answered", t.answered},
+            {"relevant_sum", t.relevant_sum},
+            {"avg_relevant", t.avg_relevant()},
+            {"seconds", k.seconds},
+            {"mrays_per_second", k.mrays_per_second()}};
+}
+
+}  // namespace
+
+void print_stats(std::FILE* out, const RenderJobResult& r) {
+    const RenderResult& res = r.result;
+    const RenderStats& s = res.stats;
+    std::fprintf(
+        out, "%s: %zu triangles, kd-tree built in %.3f s; tracer %s; %dx%d, %dx%d AA, %d threads\n",
+        r.scene_label.c_str(), r.triangles, r.kd_build_seconds, r.tracer.c_str(), res.width,
+        res.height, res.aa, res.aa, s.threads);
+    std::fprintf(out, "%-10s %9s %9s %12s %12s %12s %9s %9s %9s\n", "rays", "tiles", "rtt tiles",
+                 "rays", "traced", "answered", "avg list", "seconds", "Mrays/s");
+    const KindRow rows[] = {
+        {"primary", &s.primary}, {"shadow", &s.shadow}, {"secondary", &s.secondary}};
+    for (const KindRow& row : rows) {
+        const TraceStats& t = row.stats->trace;
+        std::fprintf(out, "%-10s %9llu %9llu %12llu %12llu %12llu %9.2f %9.3f %9.2f\n", row.name,
+                     (unsigned long long)t.tiles, (unsigned long long)t.rtt_tiles,
+                     (unsigned long long)t.rays, (unsigned long long)t.traced,
+                     (unsigned long long)t.answered, t.avg_relevant(), row.stats->seconds,
+                     row.stats->mrays_per_second());
+    }
+    std::fprintf(out,
+                 "seconds = time inside the tracer summed over threads; Mrays/s = rays / seconds; "
+                 "render wall time %.3f s\n",
+                 s.wall_seconds);
+}
+
+void write_stats_json(const std::string& path, const RenderJob& job, const RenderJobResult& r) {
+    const RenderResult& res = r.result;
+    const RenderStats& s = res.stats;
+    const nlohmann::json j = {
+        {"scene", r.scene_label},
+        {"triangles", r.triangles},
+        {"tracer", r.tracer},
+        {"width", res.width},
+        {"height", res.height},
+        {"aa", res.aa},
+        {"threads", s.threads},
+        {"max_depth", job.max_depth},
+        {"kd_build_seconds", r.kd_build_seconds},
+        {"wall_seconds", s.wall_seconds},
+        {"primary", kind_json(s.primary)},
+        {"shadow", kind_json(s.shadow)},
+        {"secondary", kind_json(s.secondary)},
+        {"rays_by_depth", s.rays_by_depth},
+    };
+    const std::string text = j.dump(2) + "\n";
+    write_file_atomically(path, [&](std::FILE* f) { std::fwrite(text.data(), 1, text.size(), f); });
+}
+
+}  // namespace rtt::cli

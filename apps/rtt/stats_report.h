@@ -1,0 +1,18 @@
+// Printing and saving render statistics (`--stats`, `--stats-json`).
+#pragma once
+
+#include <cstdio>
+#include <string>
+
+#include "render_job.h"
+
+namespace rtt::cli {
+
+/// Writes a table: one row per ray kind (primary, shadow, secondary) with tiles, RTT tiles,
+/// rays, traced, answered, average relevant-list length, tracer seconds and Mrays/s.
+void print_stats(std::FILE* out, const RenderJobResult& r);
+
+/// The same numbers as JSON, written whole or not at all.
+void write_stats_json(const std::string& path, const RenderJob& job, const RenderJobResult& r);
+
+}  // namespace rtt::cli

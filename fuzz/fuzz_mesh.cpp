@@ -1,0 +1,28 @@
+// libFuzzer target: the mesh path. The first byte picks a file extension, the rest is written to
+// a file with it and read by load_mesh_file (rtt's OBJ/OFF readers, rtt's PLY structure check,
+// then assimp for everything else). Whatever assimp hands back, rtt must validate it: the result
+// is a valid scene or an rtt::Error. Small scenes are traced by every tracer (fuzz_trace.h).
+#include <cstdint>
+#include <iterator>
+#include <string>
+
+#include "fuzz_trace.h"
+#include "fuzz_util.h"
+#include "rtt/scene_io.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    // assimp picks most readers by extension and falls back to sniffing the content, so these
+    // reach every reader; the first ones are those rtt documents.
+    static const char* const extensions[] = {"obj", "off", "ply", "stl", "gltf", "glb",
+                                             "dae", "3ds", "fbx", "x",   "ase", "ms3d",
+                                             "lwo", "ac",  "md2", "bin"};
+    if (size < 1) return 0;
+    const std::string ext = extensions[data[0] % std::size(extensions)];
+    const std::string path = rtt::fuzz::write_file("mesh." + ext, data + 1, size - 1);
+    rtt::fuzz::expect_only_rtt_errors([&] {
+        const rtt::Scene scene = rtt::load_mesh_file(path);
+        rtt::validate(scene);  // load_mesh_file promises a valid scene
+        rtt::fuzz::trace_and_compare(scene);
+    });
+    return 0;
+}

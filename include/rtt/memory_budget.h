@@ -1,0 +1,35 @@
+// Refusing work that cannot fit in memory, before allocating it.
+//
+// Why not just let the allocation fail: on Linux, with overcommit, a vector that grows past the
+// machine's memory is not refused with std::bad_alloc; its pages are touched one by one until
+// the kernel's OOM killer ends the process without a message. So every request whose size the
+// user controls (image size, samples, triangle count after instancing) is estimated up front and
+// refused with a one-line rtt::Error when the estimate exceeds what this process may have.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "rtt/render.h"
+
+namespace rtt {
+
+/// Bytes this process may use at most: the smallest of the machine's physical memory, the
+/// cgroup memory limit (v2 memory.max or v1 memory.limit_in_bytes) and RLIMIT_AS / RLIMIT_DATA.
+uint64_t memory_budget();
+
+/// Throws rtt::Error "<what> needs about X GiB of memory, but at most Y GiB is available
+/// (physical memory, cgroup and ulimit)" when `bytes` exceeds memory_budget().
+void require_memory(uint64_t bytes, const std::string& what);
+
+/// Estimated peak bytes of a scene with this many vertices and triangles once its kd-tree and a
+/// tracer are built: the scene arrays, the gathered triangles and the Wald-Havran event lists of
+/// the build (parent and children alive together), nodes and leaf lists.
+uint64_t scene_memory_bytes(uint64_t vertices, uint64_t triangles);
+
+/// Estimated bytes of one render() with these options and what `rtt render` keeps beside it:
+/// the linear pixels, the 8-bit image, the Figure 5 maps and the hit and shadow buffers (with
+/// the copy the buffer writer makes).
+uint64_t render_memory_bytes(const RenderOptions& options);
+
+}  // namespace rtt

@@ -1,0 +1,22 @@
+// Parsers of the small text values the command line takes (--light x,y,z, --size WxH). They
+// live in the library, beside parse_camera (camera.h), so the fuzz targets and tests reach
+// exactly the code the program runs.
+#pragma once
+
+#include <string>
+
+#include "rtt/math.h"
+
+namespace rtt {
+
+/// Parses "x,y,z": three finite floats, blanks allowed around each. `what` names the value in
+/// error messages ("--light"). Throws rtt::Error for anything else (a missing or extra value,
+/// an empty item, trailing text, NaN, infinity, or a number beyond float range).
+Vec3f parse_vec3(const std::string& text, const std::string& what);
+
+/// Parses "WxH" (or "WXH") of whole decimal numbers into width and height; the range is
+/// RenderOptions::validate's business. Throws rtt::Error on malformed text or a number beyond
+/// int range.
+void parse_size(const std::string& text, int& width, int& height);
+
+}  // namespace rtt

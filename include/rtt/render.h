@@ -1,0 +1,134 @@
+// The renderer: 4x4-pixel tiles, K x K antialiasing, Phong shading with omni and spot lights,
+// shadow segments, mirrors, oneTBB threads. Rays go to a Tracer a tile at a time, as separate
+// batches per kind (primary, shadow, secondary), so each kind is timed and counted on its own
+// (the paper's Table 1 measures ray shooting only).
+//
+// Batches handed to the tracer
+// ----------------------------
+// * Primary: one RayTile per 4x4-pixel tile, 4K x 4K rays in CONVENTIONS' sample order
+//   restricted to the tile (sample row y*K+j, column x*K+i), shaft = true. An image whose size
+//   is not a multiple of 4 is rendered padded to one: padding pixels use CONVENTIONS' formula
+//   with the original W, H (x >= W, y >= H) and are cropped away, so every tile is whole.
+// * Shadow: per light, one SegmentTile over the same grid (points p = org + t * dir, the hit
+//   triangles, an active mask, shaft = the ray tile's shaft). A segment is active when the
+//   light can light the point: the light on the side of the hit triangle's plane the ray came
+//   from (omni), and also strictly inside the outer cone (spot). With a shadow buffer
+//   requested, every hit sample gets a segment to every light (CONVENTIONS' pure visibility);
+//   shading still uses only the lights that can light the point, so the image does not depend
+//   on which buffers were asked for. Lights with no active segment in a tile are not traced.
+//   Shadows of reflected hits count as shadow rays too.
+// * Secondary (reflected): a RayTile per tile and depth, built from the samples that hit a
+//   mirror (material.mirror > 0), in one of two forms. Neither has inactive lanes: RayTile has
+//   no active mask, and no tracer needs to know about one.
+//   - Planar shaft: when the parent tile is a shaft and ALL its samples hit triangles with a
+//     bit-identical plane (n = normalize(cross(v1 - v0, v2 - v0)), d = dot(n, v0), compared
+//     with ==), the reflected tile keeps the 4K x 4K grid and shaft = true: origin = the apex
+//     mirrored about that plane, direction = d - 2 (d.n) n (not renormalized, so the ray
+//     parameter is unchanged: E' + t d' is the mirror image of org + t d), and
+//     tmin = t_hit * (1 + delta). A per-tile constant factor keeps the starting points on one
+//     plane (the mirror plane scaled about E' by 1 + delta: the shaft starts at a plane, as
+//     ALGORITHM asks). delta = max(1e-4, 32 eps (|E|max + |E'|max + t_max) / t_min) so that
+//     rounding of E' cannot bring the mirror itself back (scenes far from the origin).
+//   - Packed: otherwise (curved mirrors, several planes, mixed tiles, a parent that is not a
+//     shaft) only the mirror samples are packed, in tile order, into a width = count,
+//     height = 1 tile with shaft = false: origin = hit point, direction = the reflection about
+//     the shading normal (geometric normal without vertex normals), tmin = an epsilon scaled
+//     to the scene's size and distance from the origin.
+//   Depth d rays are traced only for d <= max_depth; a mirror at the depth limit reflects black.
+//
+// Results are independent of the thread count, bit for bit: tiles are shaded independently and
+// every sum runs in a fixed order.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "rtt/math.h"
+#include "rtt/scene.h"
+#include "rtt/tracer.h"
+
+namespace rtt {
+
+/// Largest image side accepted by render().
+inline constexpr int max_image_side = 16384;
+/// Largest antialiasing factor K (K x K samples per pixel).
+inline constexpr int max_aa = 16;
+/// Largest number of samples (W * H * K * K) per render: a hit or shadow buffer holds 4 bytes
+/// per sample, so both together stay below 8 GiB. Checked before anything is allocated.
+inline constexpr uint64_t max_render_samples = uint64_t(1) << 30;
+/// Largest reflection depth accepted.
+inline constexpr int max_reflection_depth = 64;
+/// Largest thread count accepted (more is a typo, not a machine).
+inline constexpr int max_render_threads = 1024;
+
+struct RenderOptions {
+    Camera camera;
+    int width = 640;
+    int height = 480;
+    int aa = 1;                  ///< K: K x K samples per pixel, 1..16.
+    int max_depth = 4;           ///< Reflection bounces traced; 0 = no reflected rays.
+    int threads = 0;             ///< Worker threads; 0 = all cores.
+    bool hits_buffer = false;    ///< Fill RenderResult::hits.
+    bool shadow_buffer = false;  ///< Fill RenderResult::shadows (every hit sample, every light).
+    bool primary_map = false;    ///< Fill RenderResult::primary_map (Figure 5b).
+    int shadow_map_light = -1;   ///< >= 0: fill RenderResult::shadow_map for this light (Fig. 5c).
+    bool progress = false;       ///< Progress bar on stderr (only when stderr is a terminal
+                                 ///< and the render takes longer than about a second).
+
+    /// Throws rtt::Error for a size, K, depth, thread count or map light out of range, or a
+    /// sample count above max_render_samples. `light_count` is the scene's number of lights.
+    void validate(size_t light_count) const;
+};
+
+/// Counters and time of one kind of rays.
+struct KindStats {
+    TraceStats trace;
+    double seconds = 0;  ///< Time inside tracer calls, summed over threads.
+    /// Rays asked for per second of tracer time, in millions (per-thread throughput).
+    double mrays_per_second() const {
+        return seconds > 0 ? double(trace.rays) / seconds * 1e-6 : 0.0;
+    }
+};
+
+struct RenderStats {
+    KindStats primary;
+    KindStats shadow;     ///< Shadow segments of primary and of reflected hits.
+    KindStats secondary;  ///< Reflected rays, all depths.
+    /// Reflected rays per depth: [0] = primary rays, [d] = rays of reflection depth d.
+    std::vector<uint64_t> rays_by_depth;
+    double wall_seconds = 0;  ///< Whole render, wall clock.
+    int threads = 0;          ///< Threads used.
+};
+
+struct RenderResult {
+    int width = 0;
+    int height = 0;
+    int aa = 1;
+    /// Linear RGB per pixel, row-major, y = 0 at the top; box filter of the pixel's samples.
+    std::vector<Vec3f> pixels;
+    /// CONVENTIONS' RTTH payload (sample order y, x, j, i; invalid_triangle = miss), if asked.
+    std::vector<uint32_t> hits;
+    /// CONVENTIONS' RTTS payload (bit l = light l visible; 0 for a miss), if asked.
+    std::vector<uint32_t> shadows;
+    /// One grey level per pixel: 255 * (fraction of its primary samples RTT answered).
+    std::vector<uint8_t> primary_map;
+    /// One grey level per pixel for one light, averaged over its active segments: 255 answered
+    /// with an empty relevant list, 128 answered from a list, 0 traced (0 also: no segment).
+    std::vector<uint8_t> shadow_map;
+    RenderStats stats;
+};
+
+/// Renders `scene` (its lights, materials and background; the camera comes from `options`)
+/// through `tracer`, which must have been made over the same scene. Throws rtt::Error for
+/// options out of range (RenderOptions::validate) or a degenerate camera.
+RenderResult render(const Scene& scene, const Tracer& tracer, const RenderOptions& options);
+
+/// 8-bit sRGB (R, G, B per pixel) of linear pixels, clamped to [0, 1].
+std::vector<uint8_t> encode_srgb8(const std::vector<Vec3f>& pixels);
+
+/// The omni light `--light x,y,z` creates: white, intensity 0.5 * |diagonal of bounds|^2 /
+/// light_count, so that a surface about one scene diagonal away receives irradiance of about
+/// 0.5 / light_count, whatever the scene's units.
+Light make_point_light(const Vec3f& position, const Bbox3f& scene_bounds, size_t light_count);
+
+}  // namespace rtt

@@ -1,0 +1,163 @@
+// Embree beside our tracers on the very same tiles (issue 6): primary and shadow throughput of
+// packet, packet16, rtt and embree in one run, three scenes at 1024x768 with K = 1 and 4, on one
+// thread and on all cores; then kd-tree and BVH build times side by side.
+#include <oneapi/tbb/info.h>
+#include <oneapi/tbb/task_arena.h>
+
+#include <algorithm>
+
+#include "bench/experiment_common.h"
+#include "trace/trace_embree.h"
+
+namespace rtt::bench {
+
+using namespace detail;
+
+namespace {
+
+double median_of(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty()      ? 0.0
+           : v.size() % 2 ? v[v.size() / 2]
+                          : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+/// Median build seconds of our kd-tree and of Embree's BVH with `threads` oneTBB threads. The
+/// scene's own kd-tree was built on all cores when it was loaded: with all cores that build is
+/// the first sample (a large scene's build takes seconds; no need to repeat it needlessly).
+std::pair<double, double> build_seconds(const BenchScene& scene, int threads, int repetitions) {
+    std::vector<double> kd, bvh;
+    if (threads == tbb::info::default_concurrency()) kd.push_back(scene.tree.stats.build_seconds);
+    tbb::task_arena arena(threads);
+    arena.execute([&] {
+        for (int r = 0; r < repetitions; ++r) {
+            if (int(kd.size()) < repetitions)
+                kd.push_back(build_kdtree(scene.scene).stats.build_seconds);
+            if (has_tracer("embree"))
+                bvh.push_back(
+                    embree_build_seconds(*make_tracer("embree", scene.scene, scene.tree)));
+        }
+    });
+    return {median_of(kd), bvh.empty() ? -1.0 : median_of(bvh)};
+}
+
+TextTable throughput_table(const std::vector<Measurement>& ms,
+                           const std::vector<std::string>& kinds, int threads, bool shadow,
+                           ClockKind clock, int repetitions) {
+    TextTable t;
+    t.title = std::string(shadow ? "Shadow" : "Primary") + " Mrays/s, " + std::to_string(threads) +
+              " thread(s) (" + clock_name(clock) + " time, median of " +
+              std::to_string(repetitions) + ")";
+    t.header = {"scene", "size", "K"};
+    for (const std::string& k : kinds) t.header.push_back(k);
+    const bool both = std::count(kinds.begin(), kinds.end(), "rtt") &&
+                      std::count(kinds.begin(), kinds.end(), "embree");
+    if (both) t.header.push_back("rtt/embree");
+    for (const Measurement& m : ms) {
+        if (m.threads != threads) continue;
+        std::vector<std::string> row{m.scene, size_label(m.width, m.height), std::to_string(m.aa)};
+        for (const std::string& k : kinds) {
+            const TracerResult* r = m.find(k);
+            row.push_back(
+                r ? format_fixed((shadow ? r->shadow : r->primary).mrays_per_second(clock), 1)
+                  : "-");
+        }
+        if (both) row.push_back(format_ratio(speedup(m, "rtt", "embree", shadow, clock)));
+        t.rows.push_back(row);
+    }
+    return t;
+}
+
+}  // namespace
+
+ExperimentResult run_embree(const BenchConfig& config, SceneCache& scenes) {
+    // (K, width, height): K = 4 at 1024x768 is 12.6 M samples per tracer and repetition, so
+    // the default full mode runs it at 512x384 and only --long at the issue's size.
+    const int w1 = config.quick() ? 128 : 1024, h1 = config.quick() ? 96 : 768;
+    const int w4 = config.by_mode(64, 512, 1024), h4 = config.by_mode(48, 384, 768);
+    const int all = std::max(1, tbb::info::default_concurrency());
+    std::vector<int> thread_counts{1};
+    if (all > 1) thread_counts.push_back(all);
+    ExperimentResult r;
+    r.id = "embree";
+    r.title = "Embree 3 beside packet, packet16 and rtt at " + size_label(w1, h1) + " (K=1) and " +
+              size_label(w4, h4) + " (K=4)";
+    std::fprintf(config.log, "\n== %s\n", r.title.c_str());
+    const std::vector<std::string> kinds = available({"packet", "packet16", "rtt", "embree"});
+    for (const std::string& name : config.scenes) {
+        const BenchScene& scene = scenes.get(name);
+        const std::vector<NamedTracer> tracers = make_tracers(scene, kinds);
+        for (int threads : thread_counts)
+            for (int k : {1, 4})
+                r.measurements.push_back(run_measurement(config, scene, tracers, k == 1 ? w1 : w4,
+                                                         k == 1 ? h1 : h4, k, threads));
+    }
+    for (int threads : thread_counts)
+        for (bool shadow : {false, true}) {
+            TextTable t = throughput_table(r.measurements, kinds, threads, shadow,
+                                           table_clock(config, threads), config.repetitions);
+            if (!has_tracer("embree"))
+                t.notes.push_back("This build has no Embree: the embree column is missing.");
+            if (threads == thread_counts.back() && shadow)
+                for (const std::string& n : agreement_notes(r.measurements)) t.notes.push_back(n);
+            print_table(config.log, t);
+            r.tables.push_back(t);
+        }
+
+    TextTable builds;
+    builds.title = "Build seconds (wall, median of " + std::to_string(config.repetitions) +
+                   "): our SAH kd-tree vs Embree's BVH (quality HIGH)";
+    // Quick mode times the first scene's builds only (a 1-thread kd-tree of plants takes ~10 s).
+    const std::vector<std::string> build_scenes =
+        config.quick() ? std::vector<std::string>(config.scenes.begin(), config.scenes.begin() + 1)
+                       : config.scenes;
+    builds.header = {"scene", "triangles"};
+    for (int threads : thread_counts) {
+        builds.header.push_back("kd-tree, " + std::to_string(threads) + "t");
+        builds.header.push_back("Embree BVH, " + std::to_string(threads) + "t");
+    }
+    nlohmann::json build_json = nlohmann::json::array();
+    for (const std::string& name : build_scenes) {
+        const BenchScene& scene = scenes.get(name);
+        std::vector<std::string> row{name, format_count(scene.scene.triangle_count())};
+        for (int threads : thread_counts) {
+            const auto [kd, bvh] = build_seconds(scene, threads, config.repetitions);
+            row.push_back(format_fixed(kd, 3));
+            row.push_back(bvh >= 0 ? format_fixed(bvh, 3) : "-");
+            build_json.push_back(
+                {{"scene", name}, {"threads", threads}, {"kdtree_s", kd}, {"embree_bvh_s", bvh}});
+        }
+        builds.rows.push_back(row);
+    }
+    print_table(config.log, builds);
+    r.tables.push_back(builds);
+    r.extra = {{"builds", build_json}};
+
+    // Where rtt stands against Embree's coherent packets (the project's ambition, issue 6:
+    // faster on primary and shadow rays of room and office).
+    int ambition_met = 0, ambition_total = 0;
+    for (const Measurement& m : r.measurements) {
+        if (!m.find("rtt") || !m.find("embree")) continue;
+        const ClockKind clock = table_clock(config, m.threads);
+        const double p = speedup(m, "rtt", "embree", false, clock);
+        const double s = speedup(m, "rtt", "embree", true, clock);
+        if (m.scene == "room" || m.scene == "office") {
+            ambition_total += 2;
+            ambition_met += (p >= 1.0) + (s >= 1.0);
+        }
+        auto word = [](double v) { return v >= 1.0 ? "ahead" : "behind"; };
+        r.findings.push_back(m.scene + " K=" + std::to_string(m.aa) + ", " +
+                             std::to_string(m.threads) + " thread(s): rtt/embree " +
+                             format_ratio(p) + " primary (" + word(p) + "), " + format_ratio(s) +
+                             " shadow (" + word(s) + ")");
+    }
+    if (ambition_total > 0)
+        r.findings.insert(r.findings.begin(),
+                          "ambition (rtt faster than Embree on room and office, primary and "
+                          "shadow): met in " +
+                              std::to_string(ambition_met) + " of " +
+                              std::to_string(ambition_total) + " measurements");
+    return r;
+}
+
+}  // namespace rtt::bench

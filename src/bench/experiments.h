@@ -1,0 +1,89 @@
+// The paper's experiments (section 4) and the Embree comparison, each as one function that
+// measures, prints its tables as it goes and returns everything for JSON and Markdown.
+//
+//   table1  Table 1: room, office, plants at 640x480, K = 1: packet vs rtt, primary and shadow.
+//   fig7    Figure 7: speed-up rtt/packet against antialiasing 1x1 .. 6x6 at 640x480.
+//   fig8    Figure 8: speed-up against resolution 320x240 .. 2048x1536, K = 1.
+//   hq      Section 4's "2.43 times" point: room at 2048x1536 (the paper: 2048x1560), 6x6.
+//   fig5    Figure 5: office rendered, and its RTT maps for primary and shadow rays.
+//   embree  packet, packet16, rtt and Embree at 1024x768, K = 1 and 4, 1 thread and all cores;
+//           kd-tree and BVH build times.
+// Sizes by mode: --quick keeps every experiment's shape with tiny images and one repetition
+// (a smoke test); the default full mode runs the paper's sizes except where a configuration
+// would not fit in about 15 minutes on a 2-core machine (Figure 7 at 320x240, Embree's K = 4
+// at 512x384), which --long runs too (about an hour).
+#pragma once
+
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "bench/measure.h"
+#include "bench/report.h"
+#include "bench/workload.h"
+
+namespace rtt::bench {
+
+enum class BenchMode { quick, full, long_run };
+
+struct BenchConfig {
+    std::vector<std::string> scenes{"room", "office", "plants"};
+    int threads = 1;  ///< Tracing threads (the embree experiment adds all cores).
+    BenchMode mode = BenchMode::full;
+    int repetitions = 3;  ///< Timed repetitions per measurement.
+    ClockKind clock = ClockKind::cpu;
+    std::string out_dir = "bench-results";  ///< Plots and images.
+    std::FILE* log = stdout;                ///< Tables and progress.
+
+    bool quick() const { return mode == BenchMode::quick; }
+    /// The value for this config's mode.
+    template <typename T>
+    T by_mode(T quick_value, T full_value, T long_value) const {
+        return mode == BenchMode::quick  ? quick_value
+               : mode == BenchMode::full ? full_value
+                                         : long_value;
+    }
+};
+
+/// "quick", "full" or "long".
+const char* mode_name(BenchMode mode);
+
+/// Scenes loaded on first use and kept for the following experiments.
+class SceneCache {
+public:
+    /// Throws rtt::Error for an unknown scene or a bad file.
+    const BenchScene& get(const std::string& name);
+
+private:
+    std::map<std::string, std::unique_ptr<BenchScene>> scenes_;
+};
+
+struct ExperimentResult {
+    std::string id;
+    std::string title;
+    std::vector<Measurement> measurements;
+    std::vector<TextTable> tables;
+    std::vector<std::string> files;     ///< Plots and images written (paths).
+    std::vector<std::string> findings;  ///< One-line readings (speed-ups against targets).
+    nlohmann::json extra = nlohmann::json::object();  ///< Build times and other figures.
+};
+
+ExperimentResult run_table1(const BenchConfig& config, SceneCache& scenes);
+ExperimentResult run_fig7(const BenchConfig& config, SceneCache& scenes);
+ExperimentResult run_fig8(const BenchConfig& config, SceneCache& scenes);
+ExperimentResult run_hq(const BenchConfig& config, SceneCache& scenes);
+ExperimentResult run_fig5(const BenchConfig& config, SceneCache& scenes);
+ExperimentResult run_embree(const BenchConfig& config, SceneCache& scenes);
+
+/// Every figure of a result (tables, measurements, files, findings, extra).
+nlohmann::json experiment_json(const ExperimentResult& result);
+
+/// `rtt` without arguments: RTT against the 4-wide packets on `scene` at 640x480, K = 1, one
+/// thread, 3 repetitions; prints times, Mrays/s, rays traced, speed-ups and agreement.
+/// Does nothing but say so when this build has no "rtt" tracer.
+void print_rtt_vs_packet(std::FILE* out, const std::string& scene);
+
+}  // namespace rtt::bench

@@ -1,0 +1,144 @@
+#include "bench/workload.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+
+#include "render/render_internal.h"
+#include "rtt/builtin_scenes.h"
+#include "rtt/camera.h"
+#include "rtt/error.h"
+#include "rtt/render.h"
+#include "rtt/scene_io.h"
+
+namespace rtt::bench {
+
+void require_scene(const std::string& name_or_file) {
+    std::error_code ec;
+    if (is_builtin_scene(name_or_file) || std::filesystem::is_regular_file(name_or_file, ec))
+        return;
+    std::string names;
+    for (const BuiltinSceneInfo& s : builtin_scenes())
+        names += (names.empty() ? "" : ", ") + s.name;
+    throw Error("unknown scene '" + name_or_file + "' (built-in scenes: " + names +
+                "; or a scene file)");
+}
+
+BenchScene load_bench_scene(const std::string& name_or_file) {
+    require_scene(name_or_file);
+    BenchScene s;
+    s.name = name_or_file;
+    s.scene = is_builtin_scene(name_or_file) ? make_builtin_scene(name_or_file)
+                                             : load_scene_file(name_or_file);
+    validate(s.scene);
+    s.camera = s.scene.camera ? *s.scene.camera : default_camera_for(s.scene.bounds());
+    s.tree = build_kdtree(s.scene);
+    return s;
+}
+
+RayTile Band::ray_tile(size_t t) const {
+    const size_t n = tile_samples();
+    return RayTile{side, side, std::span<const Ray>(rays).subspan(t * n, n), true};
+}
+
+SegmentTile Band::segment_tile(const ShadowJob& job, const Vec3f& light_position) const {
+    const size_t n = tile_samples(), first = size_t(job.tile) * n;
+    return SegmentTile{side,
+                       side,
+                       light_position,
+                       std::span<const Vec3f>(points).subspan(first, n),
+                       std::span<const uint32_t>(triangles).subspan(first, n),
+                       std::span<const uint8_t>(masks).subspan(job.mask_offset, n),
+                       true};
+}
+
+/// The renderer's shading context, kept for its light constants, surface_at and can_light:
+/// the benchmark's active segments are decided by the renderer's own code, not a copy of it.
+/// make_context stores a tracer it never calls here; the reference tracer is cheap to make.
+struct Workload::Lighting {
+    RenderOptions options;
+    std::unique_ptr<Tracer> tracer;
+    render_detail::RenderContext context;
+
+    explicit Lighting(const BenchScene& s)
+        : tracer(make_tracer("ray", s.scene, s.tree)),
+          context(render_detail::make_context(s.scene, *tracer, options)) {}
+};
+
+Workload::Workload(const BenchScene& scene, int width, int height, int aa, size_t band_samples)
+    : scene_(&scene), width_(width), height_(height), aa_(aa) {
+    RenderOptions check;
+    check.width = width;
+    check.height = height;
+    check.aa = aa;
+    check.validate(scene.scene.lights.size());
+    tiles_x_ = (width + 3) / 4;
+    tiles_y_ = (height + 3) / 4;
+    const size_t row_samples = size_t(tiles_x_) * 16 * size_t(aa) * size_t(aa);
+    const int rows_per_band =
+        int(std::max<size_t>(1, (band_samples + row_samples - 1) / row_samples));
+    for (int row = 0; row < tiles_y_; row += rows_per_band)
+        band_rows_.emplace_back(row, std::min(rows_per_band, tiles_y_ - row));
+    lighting_ = std::make_shared<const Lighting>(scene);
+}
+
+uint64_t Workload::primary_rays() const {
+    return uint64_t(tiles_x_) * uint64_t(tiles_y_) * 16 * uint64_t(aa_) * uint64_t(aa_);
+}
+
+Band Workload::make_band(int b) const {
+    const CameraRays camera(scene_->camera, width_, height_, aa_);
+    const int k = aa_, n = 4 * k;
+    Band band;
+    band.first_tile_row = band_rows_[size_t(b)].first;
+    band.tile_rows = band_rows_[size_t(b)].second;
+    band.tiles_x = tiles_x_;
+    band.side = n;
+    band.rays.resize(band.tile_count() * band.tile_samples());
+    const Vec3f org = camera.origin();
+    Ray* out = band.rays.data();
+    // Same loop as the renderer's render_tile (src/render/tiles.cpp); tests/bench_test.cpp
+    // checks the hits against render()'s hit buffer, so the two cannot drift apart silently.
+    for (int ty = band.first_tile_row; ty < band.first_tile_row + band.tile_rows; ++ty)
+        for (int tx = 0; tx < tiles_x_; ++tx)
+            for (int sr = 0; sr < n; ++sr)
+                for (int sc = 0; sc < n; ++sc)
+                    *out++ =
+                        Ray{org, camera.direction(tx * 4 + sc / k, ty * 4 + sr / k, sc % k, sr % k),
+                            0.f, pos_inf};
+    return band;
+}
+
+void Workload::add_shadows(Band& band, std::span<const Hit> hits) const {
+    const render_detail::RenderContext& ctx = lighting_->context;
+    const size_t n = band.tile_samples();
+    band.points.resize(band.rays.size());
+    band.triangles.resize(band.rays.size());
+    band.masks.clear();
+    band.shadow_jobs.clear();
+    std::vector<render_detail::SurfacePoint> surf(n);
+    std::vector<uint8_t> mask(n);
+    for (size_t t = 0; t < band.tile_count(); ++t) {
+        // As render_detail::trace_shadows: a miss keeps the ray origin as a filler point.
+        for (size_t i = 0; i < n; ++i) {
+            const size_t s = t * n + i;
+            if (hits[s].valid()) surf[i] = render_detail::surface_at(ctx, band.rays[s], hits[s]);
+            band.points[s] = hits[s].valid() ? surf[i].p : band.rays[s].org;
+            band.triangles[s] = hits[s].tri;
+        }
+        for (size_t l = 0; l < ctx.lights.size(); ++l) {
+            uint32_t active = 0;
+            for (size_t i = 0; i < n; ++i) {
+                mask[i] =
+                    hits[t * n + i].valid() && render_detail::can_light(ctx.lights[l], surf[i]);
+                active += mask[i];
+            }
+            if (active == 0) continue;  // the renderer does not trace this light for this tile
+            band.shadow_jobs.push_back(
+                ShadowJob{uint32_t(t), uint32_t(l), active, band.masks.size()});
+            band.masks.insert(band.masks.end(), mask.begin(), mask.end());
+        }
+    }
+}
+
+}  // namespace rtt::bench

@@ -1,0 +1,100 @@
+#include "rtt/memory_budget.h"
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <string>
+
+#include "rtt/error.h"
+
+namespace rtt {
+namespace {
+
+constexpr uint64_t unlimited = std::numeric_limits<uint64_t>::max();
+
+/// The first number in `path`, or `unlimited` when the file is missing or says "max".
+uint64_t read_limit_file(const char* path) {
+    std::ifstream in(path);
+    std::string word;
+    if (!(in >> word) || word.empty() || word.find_first_not_of("0123456789") != std::string::npos)
+        return unlimited;
+    try {
+        return std::stoull(word);
+    } catch (...) {
+        return unlimited;
+    }
+}
+
+/// Physical memory and cgroup limit: fixed for the life of the process, read once.
+uint64_t machine_limit() {
+    static const uint64_t limit = [] {
+        uint64_t bytes = unlimited;
+        const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+        if (pages > 0 && page > 0) bytes = uint64_t(pages) * uint64_t(page);
+        // cgroup v2, then v1 (whose "no limit" is a huge number, harmless under min).
+        bytes = std::min(bytes, read_limit_file("/sys/fs/cgroup/memory.max"));
+        bytes = std::min(bytes, read_limit_file("/sys/fs/cgroup/memory/memory.limit_in_bytes"));
+        return bytes;
+    }();
+    return limit;
+}
+
+/// ulimit -v / -d: may change while the process runs (tests lower them), so read every time.
+uint64_t rlimit_bytes(int resource) {
+    rlimit r{};
+    if (getrlimit(resource, &r) != 0 || r.rlim_cur == RLIM_INFINITY) return unlimited;
+    return uint64_t(r.rlim_cur);
+}
+
+std::string gib(uint64_t bytes) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f", double(bytes) / double(uint64_t(1) << 30));
+    return text;
+}
+
+/// a * b + c, saturating instead of wrapping (counts come from files).
+uint64_t mul_add(uint64_t a, uint64_t b, uint64_t c) {
+    if (b != 0 && a > (unlimited - c) / b) return unlimited;
+    return a * b + c;
+}
+
+}  // namespace
+
+uint64_t memory_budget() {
+    return std::min({machine_limit(), rlimit_bytes(RLIMIT_AS), rlimit_bytes(RLIMIT_DATA)});
+}
+
+void require_memory(uint64_t bytes, const std::string& what) {
+    const uint64_t budget = memory_budget();
+    if (bytes <= budget) return;
+    throw Error(what + " needs about " + gib(bytes) + " GiB of memory, but at most " + gib(budget) +
+                " GiB is available (physical memory, cgroup and ulimit)");
+}
+
+uint64_t scene_memory_bytes(uint64_t vertices, uint64_t triangles) {
+    // Per vertex: position and shading normal (12 + 12). Per triangle: indices and material
+    // (16), gathered vertices (36, once for the build and once in a tracer), six 8-byte events
+    // per node level with parent and children alive together (~100), nodes and leaf lists (~30),
+    // and per-tracer extras. Measured peak for 1M random triangles: see tests/limits_test.cpp.
+    constexpr uint64_t per_vertex = 24, per_triangle = 256;
+    return mul_add(triangles, per_triangle, mul_add(vertices, per_vertex, 0));
+}
+
+uint64_t render_memory_bytes(const RenderOptions& o) {
+    const uint64_t w = uint64_t(std::max(o.width, 0)), h = uint64_t(std::max(o.height, 0));
+    const uint64_t k = uint64_t(std::max(o.aa, 0));
+    // Sides below 2^31: w * h and k * k fit; their product saturates.
+    const uint64_t pixels = w * h, samples = mul_add(pixels, k * k, 0);
+    // Linear RGB (12) and the 8-bit sRGB copy written to PNG (3), plus one byte per map.
+    const uint64_t per_pixel = 15 + (o.primary_map ? 1 : 0) + (o.shadow_map_light >= 0 ? 1 : 0);
+    // Each buffer holds 4 bytes per sample, and the buffer writer's HitBuffer / ShadowBuffer
+    // copies it once more.
+    const uint64_t per_sample = 8 * ((o.hits_buffer ? 1 : 0) + (o.shadow_buffer ? 1 : 0));
+    return mul_add(samples, per_sample, mul_add(pixels, per_pixel, 0));
+}
+
+}  // namespace rtt

@@ -1,0 +1,63 @@
+#include "rtt/parse.h"
+
+#include <charconv>
+#include <cmath>
+#include <string_view>
+#include <vector>
+
+#include "rtt/error.h"
+
+namespace rtt {
+namespace {
+
+std::string_view trimmed(std::string_view s) {
+    const size_t b = s.find_first_not_of(" \t");
+    if (b == std::string_view::npos) return {};
+    return s.substr(b, s.find_last_not_of(" \t") - b + 1);
+}
+
+/// One float of a comma-separated list; std::from_chars is correctly rounded and ignores the
+/// locale. Returns false unless the whole item is a number within float range.
+bool parse_float(std::string_view item, float& out) {
+    std::string_view s = trimmed(item);
+    if (s.size() > 1 && s[0] == '+' && s[1] != '-') s.remove_prefix(1);  // from_chars refuses '+'
+    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
+    return !s.empty() && ec == std::errc() && end == s.data() + s.size();
+}
+
+}  // namespace
+
+Vec3f parse_vec3(const std::string& text, const std::string& what) {
+    std::vector<float> v;
+    size_t start = 0;
+    // Every comma separates two items, so "1,2,3," has an empty fourth item and is refused.
+    for (;;) {
+        const size_t comma = text.find(',', start);
+        const std::string_view item =
+            std::string_view(text).substr(start, comma == std::string::npos ? std::string::npos
+                                                                            : comma - start);
+        float f = 0.f;
+        if (!parse_float(item, f))
+            throw Error(what + ": '" + std::string(item) + "' is not a number (expected x,y,z)");
+        if (!std::isfinite(f)) throw Error(what + ": NaN or infinite value in '" + text + "'");
+        v.push_back(f);
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    if (v.size() != 3)
+        throw Error(what + ": expected 3 comma-separated numbers x,y,z, got '" + text + "'");
+    return {v[0], v[1], v[2]};
+}
+
+void parse_size(const std::string& text, int& width, int& height) {
+    const size_t x = text.find_first_of("xX");
+    const auto number = [](std::string_view s, int& out) {
+        const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
+        return !s.empty() && ec == std::errc() && end == s.data() + s.size();
+    };
+    if (x == std::string::npos || !number(std::string_view(text).substr(0, x), width) ||
+        !number(std::string_view(text).substr(x + 1), height))
+        throw Error("--size: expected WxH with whole numbers, e.g. 640x480, got '" + text + "'");
+}
+
+}  // namespace rtt

@@ -1,0 +1,220 @@
+#include "geom/plane_id.h"
+
+#include <array>
+#include <bit>
+#include <cmath>
+#include <unordered_map>
+
+namespace rtt {
+namespace {
+
+// ---- exact arithmetic on float inputs (Shewchuk, "Adaptive Precision Floating-Point Arithmetic
+// and Fast Robust Geometric Predicates", 1997) ------------------------------------------------
+
+/// a - b of two floats as an exact unevaluated sum hi + lo of doubles (Two-Diff).
+struct Exact2 {
+    double hi, lo;
+};
+Exact2 exact_diff(float a, float b) {
+    const double x = double(a), y = double(b);
+    const double hi = x - y;
+    const double x_virt = hi + y;
+    const double y_virt = x_virt - hi;
+    return {hi, (x - x_virt) + (y_virt - y)};
+}
+
+/// Two-Product: a * b == p + e exactly (the error term of a correctly rounded product is
+/// itself a double, computed exactly by the fused multiply-add).
+void two_product(double a, double b, double& p, double& e) {
+    p = a * b;
+    e = std::fma(a, b, -p);
+}
+
+/// A nonoverlapping expansion with components of increasing magnitude, grown one double at a
+/// time (Grow-Expansion with zero elimination, Shewchuk's Theorem 10): its sign is the sign of
+/// its largest component.
+class Expansion {
+public:
+    void add(double b) {
+        double q = b;
+        int m = 0;
+        for (int i = 0; i < n_; ++i) {
+            const double x = q + e_[i];
+            const double b_virt = x - q;
+            const double a_virt = x - b_virt;
+            const double err = (q - a_virt) + (e_[i] - b_virt);  // Two-Sum
+            if (err != 0.0) e_[m++] = err;
+            q = x;
+        }
+        if (q != 0.0) e_[m++] = q;
+        n_ = m;
+    }
+    int sign() const { return n_ == 0 ? 0 : (e_[n_ - 1] > 0.0 ? 1 : -1); }
+
+private:
+    std::array<double, 256> e_;  // one component per add() at most: 6 * 8 * 4 = 192 adds
+    int n_ = 0;
+};
+
+/// Adds s * x * y * z exactly: the 2 x 2 x 2 products of the parts, each split into 4 doubles.
+void add_product3(Expansion& e, double s, const Exact2& x, const Exact2& y, const Exact2& z) {
+    const double xs[2] = {x.hi, x.lo}, ys[2] = {y.hi, y.lo}, zs[2] = {z.hi, z.lo};
+    for (double a : xs) {
+        if (a == 0.0) continue;
+        for (double b : ys) {
+            if (b == 0.0) continue;
+            double p, q;
+            two_product(s * a, b, p, q);  // s = +-1: exact
+            for (double c : zs) {
+                if (c == 0.0) continue;
+                double r0, r1, r2, r3;
+                two_product(p, c, r0, r1);
+                two_product(q, c, r2, r3);
+                e.add(r1);
+                e.add(r3);
+                e.add(r2);
+                e.add(r0);
+            }
+        }
+    }
+}
+
+/// Adds s * x * y exactly.
+void add_product2(Expansion& e, double s, const Exact2& x, const Exact2& y) {
+    const double xs[2] = {x.hi, x.lo}, ys[2] = {y.hi, y.lo};
+    for (double a : xs)
+        for (double b : ys) {
+            double p, q;
+            two_product(s * a, b, p, q);
+            e.add(q);
+            e.add(p);
+        }
+}
+
+/// Exact sign of the 2D orientation of the points (p, q, r) projected on axes (i, j).
+int orient2d_sign(const Vec3f& p, const Vec3f& q, const Vec3f& r, int i, int j) {
+    const Exact2 ux = exact_diff(q[i], p[i]), uy = exact_diff(q[j], p[j]);
+    const Exact2 vx = exact_diff(r[i], p[i]), vy = exact_diff(r[j], p[j]);
+    Expansion e;
+    add_product2(e, 1.0, ux, vy);
+    add_product2(e, -1.0, uy, vx);
+    return e.sign();
+}
+
+}  // namespace
+
+int orient3d_sign(const Vec3f& a, const Vec3f& b, const Vec3f& c, const Vec3f& d) {
+    const Exact2 ax = exact_diff(a.x, d.x), ay = exact_diff(a.y, d.y), az = exact_diff(a.z, d.z);
+    const Exact2 bx = exact_diff(b.x, d.x), by = exact_diff(b.y, d.y), bz = exact_diff(b.z, d.z);
+    const Exact2 cx = exact_diff(c.x, d.x), cy = exact_diff(c.y, d.y), cz = exact_diff(c.z, d.z);
+    // Filter: the determinant of the rounded differences in double. Its error is below
+    // 7 eps * permanent for exact inputs (Shewchuk's o3derrboundA) plus 3 eps * permanent for the
+    // rounding of the differences (eps = 2^-53); 4e-15 * permanent is a safe bound.
+    const double m1 = by.hi * cz.hi - bz.hi * cy.hi;
+    const double m2 = cy.hi * az.hi - cz.hi * ay.hi;
+    const double m3 = ay.hi * bz.hi - az.hi * by.hi;
+    const double det = ax.hi * m1 + bx.hi * m2 + cx.hi * m3;
+    const double permanent = std::fabs(ax.hi) * (std::fabs(by.hi * cz.hi) + std::fabs(bz.hi * cy.hi)) +
+                             std::fabs(bx.hi) * (std::fabs(cy.hi * az.hi) + std::fabs(cz.hi * ay.hi)) +
+                             std::fabs(cx.hi) * (std::fabs(ay.hi * bz.hi) + std::fabs(az.hi * by.hi));
+    const double bound = 4e-15 * permanent;
+    if (det > bound) return 1;
+    if (det < -bound) return -1;
+    Expansion e;
+    add_product3(e, 1.0, ax, by, cz);
+    add_product3(e, -1.0, ax, bz, cy);
+    add_product3(e, 1.0, bx, cy, az);
+    add_product3(e, -1.0, bx, cz, ay);
+    add_product3(e, 1.0, cx, ay, bz);
+    add_product3(e, -1.0, cx, az, by);
+    return e.sign();
+}
+
+bool collinear(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
+    // Collinear iff the cross product (b - a) x (c - a) vanishes, i.e. all three projections
+    // onto the coordinate planes are degenerate.
+    return orient2d_sign(a, b, c, 1, 2) == 0 && orient2d_sign(a, b, c, 2, 0) == 0 &&
+           orient2d_sign(a, b, c, 0, 1) == 0;
+}
+
+namespace {
+
+/// Hash cell of an approximate plane. kind 1: axis-aligned plane x[k[0]] == bits k[1] (exact,
+/// no verification needed); kind 2: quantized normalized (n, d).
+struct PlaneKey {
+    int kind;
+    int64_t k[4];
+    bool operator==(const PlaneKey&) const = default;
+};
+struct PlaneKeyHash {
+    size_t operator()(const PlaneKey& p) const {
+        uint64_t h = uint64_t(p.kind) * 0x9E3779B97F4A7C15ull;
+        for (int64_t v : p.k) h = (h ^ uint64_t(v)) * 0x100000001B3ull + (h >> 29);
+        return size_t(h);
+    }
+};
+
+bool same_point(const Vec3f& a, const Vec3f& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+
+/// Every vertex of `t` lies exactly on the plane of the (non-degenerate) triangle `r`.
+bool on_plane_of(const TriangleVerts& r, const TriangleVerts& t) {
+    for (const Vec3f& v : {t.v0, t.v1, t.v2}) {
+        if (same_point(v, r.v0) || same_point(v, r.v1) || same_point(v, r.v2)) continue;
+        if (orient3d_sign(r.v0, r.v1, r.v2, v) != 0) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+PlaneIds compute_plane_ids(std::span<const TriangleVerts> triangles) {
+    PlaneIds out;
+    out.id.assign(triangles.size(), no_plane);
+    double scale = 0.0;
+    for (const TriangleVerts& t : triangles)
+        for (const Vec3f& v : {t.v0, t.v1, t.v2})
+            scale = std::max({scale, double(std::fabs(v.x)), double(std::fabs(v.y)), double(std::fabs(v.z))});
+    if (!(scale > 0.0)) scale = 1.0;
+    constexpr double cells = 1048576.0;  // 2^20 cells per unit: far coarser than rounding
+
+    std::unordered_map<PlaneKey, std::vector<uint32_t>, PlaneKeyHash> buckets;
+    for (uint32_t i = 0; i < triangles.size(); ++i) {
+        const TriangleVerts& t = triangles[i];
+        if (collinear(t.v0, t.v1, t.v2)) continue;
+        PlaneKey key{0, {0, 0, 0, 0}};
+        for (int a = 0; a < 3 && key.kind == 0; ++a)
+            if (t.v0[a] == t.v1[a] && t.v1[a] == t.v2[a])
+                key = {1, {a, int64_t(std::bit_cast<uint32_t>(t.v0[a] + 0.f)), 0, 0}};  // -0 -> +0
+        if (key.kind == 0) {
+            const double e1[3] = {double(t.v1.x) - t.v0.x, double(t.v1.y) - t.v0.y, double(t.v1.z) - t.v0.z};
+            const double e2[3] = {double(t.v2.x) - t.v0.x, double(t.v2.y) - t.v0.y, double(t.v2.z) - t.v0.z};
+            double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                           e1[0] * e2[1] - e1[1] * e2[0]};
+            const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            const int big = std::fabs(n[0]) >= std::fabs(n[1]) ? (std::fabs(n[0]) >= std::fabs(n[2]) ? 0 : 2)
+                                                                : (std::fabs(n[1]) >= std::fabs(n[2]) ? 1 : 2);
+            const double s = (n[big] < 0.0 ? -1.0 : 1.0) / len;
+            for (double& c : n) c *= s;
+            const double d = n[0] * t.v0.x + n[1] * t.v0.y + n[2] * t.v0.z;
+            key = {2,
+                   {std::llround(n[0] * cells), std::llround(n[1] * cells), std::llround(n[2] * cells),
+                    std::llround(d / scale * cells)}};
+        }
+        std::vector<uint32_t>& bucket = buckets[key];
+        for (uint32_t pid : bucket) {
+            if (key.kind == 1 || on_plane_of(triangles[out.representative[pid]], t)) {
+                out.id[i] = pid;
+                break;
+            }
+        }
+        if (out.id[i] == no_plane) {
+            const uint32_t pid = uint32_t(out.representative.size());
+            out.representative.push_back(i);
+            bucket.push_back(pid);
+            out.id[i] = pid;
+        }
+    }
+    return out;
+}
+
+}  // namespace rtt

@@ -1,0 +1,124 @@
+#include "geom/shaft.h"
+
+#include <bit>
+
+namespace rtt {
+namespace {
+
+bool same_bits(const Vec3f& a, const Vec3f& b) {
+    return std::bit_cast<uint32_t>(a.x) == std::bit_cast<uint32_t>(b.x) &&
+           std::bit_cast<uint32_t>(a.y) == std::bit_cast<uint32_t>(b.y) &&
+           std::bit_cast<uint32_t>(a.z) == std::bit_cast<uint32_t>(b.z);
+}
+
+/// Largest move (max-norm, slope units) of a corner of the slope quad allowed before a shaft is
+/// refused: beyond it the quad is so acute that the margins would reject almost nothing.
+constexpr float max_eta = 0x1p-10f;
+
+}  // namespace
+
+bool make_shaft(const Ray (&c)[4], Shaft& s) {
+    for (const Ray& r : c) {
+        if (!is_finite(r.org) || !is_finite(r.dir) || !same_bits(r.org, c[0].org)) return false;
+        if (!(r.tmin >= 0.f && r.tmin <= r.tmax)) return false;  // also rejects NaN
+    }
+    const WatertightRay w0(c[0]);
+    if (c[0].dir[w0.kz] == 0.f) return false;
+    for (int i = 0; i < 4; ++i) {
+        const WatertightRay w(c[i]);
+        if (w.kx != w0.kx || w.ky != w0.ky || w.kz != w0.kz) return false;
+        s.sx[i] = w.sx;
+        s.sy[i] = w.sy;
+        s.sz[i] = w.sz;
+        s.tmin[i] = c[i].tmin;
+        s.tmax[i] = c[i].tmax;
+    }
+    s.org = c[0].org;
+    s.kx = w0.kx;
+    s.ky = w0.ky;
+    s.kz = w0.kz;
+    s.sign_z = c[0].dir[w0.kz] < 0.f ? -1.f : 1.f;
+
+    // The slope quad in cyclic order q = 0, 1, 3, 2, one edge per SIMD lane: edge m runs from
+    // corner q[m] to corner q[m+1]. rot(k) holds the corners shifted by k.
+    using vf = vfloat4;
+    const float cx[4] = {s.sx[0], s.sx[1], s.sx[3], s.sx[2]}, cy[4] = {s.sy[0], s.sy[1], s.sy[3], s.sy[2]};
+    const auto rot = [](const float (&c)[4], int k) {
+        alignas(16) const float r[4] = {c[k & 3], c[(k + 1) & 3], c[(k + 2) & 3], c[(k + 3) & 3]};
+        return vf::load(r);
+    };
+    const vf px = rot(cx, 0), py = rot(cy, 0), px1 = rot(cx, 1), py1 = rot(cy, 1);
+    const vf ex = px1 - px, ey = py1 - py;                                      // edge m
+    const vf ex_next = rot(cx, 2) - px1, ey_next = rot(cy, 2) - py1;            // edge m + 1
+    const vf ex_prev = px - rot(cx, 3), ey_prev = py - rot(cy, 3);              // edge m - 1
+    // Turn at corner m + 1: cross(e_m, e_m+1). All of one sign, or the quad is refused. (The
+    // region the check accepts is the intersection of the 4 half-planes, inside the quad's
+    // convex hull even if rounding let a nearly flat corner through.)
+    const vf turn = ex * ey_next - ey * ex_next;
+    const uint32_t positive = movemask(turn > vf(0.f)), negative = movemask(turn < vf(0.f));
+    if (positive != 0xF && negative != 0xF) return false;
+    const float o = positive == 0xF ? 1.f : -1.f;
+
+    // (nx, ny): unit normal of edge m into the quad, which is n . s >= c. The float check
+    // accepts n . s >= c - tolerance; its rounding (n and c within 2u, the products and the
+    // sum: below 12u = 2^-20.4 for |s| <= 1) is covered by growing the lines by tolerance +
+    // 2^-20 for the quad Q' whose corners define eta.
+    const vf inv_len = vf(o) / sqrt(ex * ex + ey * ey);
+    const vf nx = -ey * inv_len, ny = ex * inv_len;
+    const vf cc = nx * px + ny * py;
+    store(s.edge_nx, nx);
+    store(s.edge_ny, ny);
+    store(s.edge_c, cc - vf(shaft_slope_tolerance));
+    // Moving the lines out by `grown` moves corner m (edges p = m - 1 and m meet there) by v
+    // with n_p . v = n_m . v = -grown: v = -grown (n_p + n_m) / (1 + n_p . n_m).
+    const float grown = shaft_slope_tolerance + 0x1p-20f;
+    const vf inv_len_prev = vf(o) / sqrt(ex_prev * ex_prev + ey_prev * ey_prev);
+    const vf pnx = -ey_prev * inv_len_prev, pny = ex_prev * inv_len_prev;  // normal of edge m - 1
+    const vf cosine = vf(1.f) + (pnx * nx + pny * ny);
+    if (!all(cosine > vf(1e-6f))) return false;
+    const vf move = vf(grown) * max(abs(pnx + nx), abs(pny + ny)) / cosine;
+    const float eta = reduce_max(move)[0];
+    if (!(eta <= max_eta)) return false;
+    // Rounding in the computation above is below 2^-20 relative; the factor covers it.
+    s.eta = eta * (1.f + 0x1p-16f);
+    // A point org + t d (t > 0) has slopes d[kx] / d[kz], d[ky] / d[kz] exactly, within u of the
+    // float slopes the check saw: inside the grown lines moved by 2^-21 more. Multiplying
+    // n . s >= c by |d[kz]| = sign_z d[kz] gives a plane through the apex.
+    alignas(16) float plane[3][4];
+    store(plane[s.kx], vf(s.sign_z) * nx);
+    store(plane[s.ky], vf(s.sign_z) * ny);
+    store(plane[s.kz], vf(-s.sign_z) * (cc - vf(grown + 0x1p-21f)));
+    store(s.frustum_nx, vf::load(plane[0]));
+    store(s.frustum_ny, vf::load(plane[1]));
+    store(s.frustum_nz, vf::load(plane[2]));
+
+    // Start / end offsets along the dominant axis, computed as shaft_accepts computes them.
+    float so_lo = pos_inf, so_hi = 0.f, eo_lo = pos_inf, eo_hi = 0.f;
+    for (const Ray& r : c) {
+        const float dz = std::fabs(r.dir[s.kz]);
+        const float so = r.tmin * dz, eo = r.tmax * dz;
+        so_lo = std::min(so_lo, so);
+        so_hi = std::max(so_hi, so);
+        eo_lo = std::min(eo_lo, eo);
+        eo_hi = std::max(eo_hi, eo);
+    }
+    constexpr float widen = 0x1p-16f;
+    s.start_lo = so_lo * (1.f - widen);
+    s.start_hi = so_hi * (1.f + widen);
+    s.end_lo = eo_lo * (1.f - widen);
+    s.end_hi = eo_hi * (1.f + widen);
+    return true;
+}
+
+bool shaft_accepts(const Shaft& s, const Ray& r) {
+    if (!same_bits(r.org, s.org)) return false;
+    const WatertightRay w(r);
+    if (w.kx != s.kx || w.ky != s.ky || w.kz != s.kz) return false;
+    for (int m = 0; m < 4; ++m)
+        if (!(s.edge_nx[m] * w.sx + s.edge_ny[m] * w.sy >= s.edge_c[m])) return false;
+    const float dz = std::fabs(r.dir[s.kz]);
+    const float so = r.tmin * dz, eo = r.tmax * dz;
+    return so >= s.start_lo && so <= s.start_hi && eo >= s.end_lo && eo <= s.end_hi;
+}
+
+}  // namespace rtt

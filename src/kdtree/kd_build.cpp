@@ -1,0 +1,290 @@
+// O(N log N) SAH kd-tree build after Wald & Havran, "On building fast kd-trees for ray tracing,
+// and on doing that in O(N log N)", IEEE Symposium on Interactive Ray Tracing 2006.
+//
+// The events of all triangles are sorted once. At each node one sweep per axis finds the best
+// SAH split (kd_sah.cpp); the node's sorted event lists are then split in linear time: each
+// triangle is classified left-only, right-only or both from the events of the split axis;
+// left-only and right-only events keep their order in the children; triangles on both sides are
+// clipped to each child box (perfect splits, kd_clip.cpp), and only their new events are sorted
+// and merged in. Sorting O(sqrt N) straddling triangles per node keeps the build O(N log N).
+//
+// What the tree guarantees (the traversal in trace/trace_ray.h relies on it): every point of
+// every triangle lies in the closed box of at least one leaf that references the triangle, and
+// every leaf whose box interior the triangle meets references it. A triangle that only touches a
+// split plane goes to the side it lies on; a triangle lying in the plane goes to the side the SAH
+// picked (pside). Traversal visits both children of a plane the ray crosses within a margin, so
+// a hit exactly on a split plane is always found.
+//
+// Large subtrees are built in parallel with oneTBB. The tree does not depend on the thread
+// count: every decision is made from the node's own data, and the children's node arrays are
+// concatenated in one fixed order (below child first, pbrt's layout).
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_invoke.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "geom/triangle.h"
+#include "kdtree/kd_clip.h"
+#include "kdtree/kd_events.h"
+#include "kdtree/kd_sah.h"
+#include "rtt/error.h"
+#include "rtt/kdtree.h"
+#include "rtt/memory_budget.h"
+
+namespace rtt {
+namespace {
+
+using kd::Event;
+using kd::EventList;
+using kd::EventType;
+using kd::NodeEvents;
+using kd::SplitChoice;
+
+enum Side : uint8_t { both, left_only, right_only };
+
+/// Nodes with at least this many triangles, above this depth, build their two children in
+/// parallel (2^8 tasks are plenty; each parallel level costs one copy of the above subtree).
+constexpr size_t parallel_min_triangles = 4096;
+constexpr int parallel_max_depth = 8;
+
+[[noreturn]] void too_large(const std::string& what) {
+    throw Error("scene too large for the kd-tree: " + what);
+}
+
+/// Nodes and leaf lists of one subtree. Above-child indices and leaf offsets are relative to
+/// the start of these arrays until the subtree is appended to its parent's.
+struct Subtree {
+    std::vector<KdNode> nodes;
+    std::vector<uint32_t> leaf_triangles;
+
+    void append(const Subtree& other) {
+        const size_t node_base = nodes.size(), leaf_base = leaf_triangles.size();
+        if (node_base + other.nodes.size() > KdNode::max_index) too_large("more than 2^30 nodes");
+        if (leaf_base + other.leaf_triangles.size() > UINT32_MAX)
+            too_large("more than 2^32 leaf references");
+        for (KdNode n : other.nodes) {
+            const bool ok = n.is_leaf()
+                                ? n.set_leaf(n.first_triangle() + uint32_t(leaf_base), n.triangle_count())
+                                : n.set_inner(n.axis(), n.split, n.above_child() + uint32_t(node_base));
+            if (!ok) too_large("node index out of range");
+            nodes.push_back(n);
+        }
+        leaf_triangles.insert(leaf_triangles.end(), other.leaf_triangles.begin(),
+                              other.leaf_triangles.end());
+    }
+};
+
+class Builder {
+public:
+    Builder(std::span<const TriangleVerts> triangles, const KdBuildConfig& config, int max_depth)
+        : triangles_(triangles), config_(config), max_depth_(max_depth) {}
+
+    /// Builds the subtree of a node (consuming its events) at the end of `out`.
+    void build(NodeEvents&& ev, const Bbox3f& box, int depth, Subtree& out) {
+        const size_t n = ev.triangles;
+        SplitChoice split;
+        if (n > size_t(config_.max_leaf_size) && depth < max_depth_)
+            split = kd::find_split(ev, box, config_);
+        if (split.axis < 0 || split.cost >= double(config_.isect_cost) * double(n)) {
+            make_leaf(ev, out);
+            ev = NodeEvents{};  // release now, not when the parent returns
+            return;
+        }
+        Bbox3f left_box = box, right_box = box;
+        left_box.hi[split.axis] = split.pos;
+        right_box.lo[split.axis] = split.pos;
+        NodeEvents left, right;
+        split_events(std::move(ev), split, left_box, right_box, left, right);
+
+        const size_t index = out.nodes.size();
+        out.nodes.emplace_back();
+        if (n >= parallel_min_triangles && depth < parallel_max_depth) {
+            Subtree above;
+            tbb::parallel_invoke([&] { build(std::move(left), left_box, depth + 1, out); },
+                                 [&] { build(std::move(right), right_box, depth + 1, above); });
+            set_inner(out, index, split, out.nodes.size());
+            out.append(above);
+        } else {
+            build(std::move(left), left_box, depth + 1, out);
+            set_inner(out, index, split, out.nodes.size());
+            build(std::move(right), right_box, depth + 1, out);
+        }
+    }
+
+private:
+    static void set_inner(Subtree& out, size_t index, const SplitChoice& split, size_t above) {
+        if (above > KdNode::max_index || !out.nodes[index].set_inner(split.axis, split.pos, uint32_t(above)))
+            too_large("more than 2^30 nodes");
+    }
+
+    static void make_leaf(const NodeEvents& ev, Subtree& out) {
+        const size_t first = out.leaf_triangles.size();
+        if (first + ev.triangles > UINT32_MAX) too_large("more than 2^32 leaf references");
+        for (const Event& e : ev.axis[0])
+            if (e.type() != EventType::end) out.leaf_triangles.push_back(e.tri());
+        std::sort(out.leaf_triangles.begin() + std::ptrdiff_t(first), out.leaf_triangles.end());
+        KdNode leaf;
+        if (!leaf.set_leaf(uint32_t(first), uint32_t(ev.triangles)))
+            too_large("a leaf with more than 2^30 triangles");
+        out.nodes.push_back(leaf);
+    }
+
+    /// Per-thread working memory, reused from node to node. No node's split runs interleaved
+    /// with another's on one thread (nothing in split_events waits on tasks), so one is enough.
+    struct Scratch {
+        std::vector<uint8_t> side;  ///< Side of each triangle, indexed by triangle; only entries
+                                    ///< of the current node's triangles are meaningful.
+        std::vector<std::pair<uint32_t, Bbox3f>> clipped[2];  ///< Straddlers clipped per child.
+        EventList fresh[2];                                   ///< Their events on one axis.
+    };
+
+    /// Wald & Havran 2006, section 5.3: distributes the node's events to the children in
+    /// linear time, plus sorting the new events of the triangles that straddle the plane.
+    void split_events(NodeEvents&& ev, const SplitChoice& split, const Bbox3f& left_box,
+                      const Bbox3f& right_box, NodeEvents& left, NodeEvents& right) {
+        Scratch& scratch = scratch_.local();
+        std::vector<uint8_t>& side = scratch.side;
+        if (side.size() < triangles_.size()) side.assign(triangles_.size(), both);
+
+        const float p = split.pos;
+        const EventList& split_axis = ev.axis[split.axis];
+        for (const Event& e : split_axis) side[e.tri()] = both;
+        for (const Event& e : split_axis) {
+            switch (e.type()) {
+                case EventType::end:
+                    if (e.pos <= p) side[e.tri()] = left_only;
+                    break;
+                case EventType::start:
+                    if (e.pos >= p) side[e.tri()] = right_only;
+                    break;
+                case EventType::planar:
+                    side[e.tri()] = e.pos < p || (e.pos == p && split.planar_left) ? left_only : right_only;
+                    break;
+            }
+        }
+
+        // Straddling triangles: clip them to each child (perfect splits); a child they do not
+        // touch drops them.
+        auto& [clipped_left, clipped_right] = scratch.clipped;
+        clipped_left.clear();
+        clipped_right.clear();
+        size_t only_left = 0, only_right = 0;
+        Bbox3f b;
+        for (const Event& e : split_axis) {
+            if (e.type() == EventType::end) continue;
+            const uint32_t t = e.tri();
+            if (side[t] == left_only) {
+                ++only_left;
+            } else if (side[t] == right_only) {
+                ++only_right;
+            } else {
+                if (clip_triangle_to_box(triangles_[t], left_box, b)) clipped_left.emplace_back(t, b);
+                if (clip_triangle_to_box(triangles_[t], right_box, b)) clipped_right.emplace_back(t, b);
+            }
+        }
+        left.triangles = only_left + clipped_left.size();
+        right.triangles = only_right + clipped_right.size();
+
+        for (int a = 0; a < 3; ++a) {
+            auto& [fresh_left, fresh_right] = scratch.fresh;
+            events_on_axis(clipped_left, a, fresh_left);
+            events_on_axis(clipped_right, a, fresh_right);
+            EventList& l = left.axis[a];
+            EventList& r = right.axis[a];
+            l.reserve(2 * only_left + fresh_left.size());
+            r.reserve(2 * only_right + fresh_right.size());
+            // One pass: the parent's events, filtered by side, merged with the sorted new ones.
+            auto fl = fresh_left.begin(), fr = fresh_right.begin();
+            for (const Event& e : ev.axis[a]) {
+                const uint8_t s = side[e.tri()];
+                if (s == left_only) {
+                    while (fl != fresh_left.end() && *fl < e) l.push_back(*fl++);
+                    l.push_back(e);
+                } else if (s == right_only) {
+                    while (fr != fresh_right.end() && *fr < e) r.push_back(*fr++);
+                    r.push_back(e);
+                }
+            }
+            l.insert(l.end(), fl, fresh_left.end());
+            r.insert(r.end(), fr, fresh_right.end());
+            EventList().swap(ev.axis[a]);
+        }
+    }
+
+    /// The sorted events along axis `a` of triangles with the given bounds.
+    static void events_on_axis(const std::vector<std::pair<uint32_t, Bbox3f>>& boxes, int a,
+                               EventList& out) {
+        out.clear();
+        for (const auto& [t, box] : boxes) kd::append_events(out, box.lo[a], box.hi[a], t);
+        std::sort(out.begin(), out.end());
+    }
+
+    std::span<const TriangleVerts> triangles_;
+    const KdBuildConfig& config_;
+    int max_depth_;
+    tbb::enumerable_thread_specific<Scratch> scratch_;
+};
+
+/// Checks what the build relies on (indices in range, finite coordinates, index fits 30 bits).
+void check_input(const Scene& scene) {
+    if (scene.triangles.size() > Event::tri_mask)
+        too_large(std::to_string(scene.triangles.size()) + " triangles, at most 2^30 - 1");
+    require_memory(scene_memory_bytes(scene.vertices.size(), scene.triangles.size()),
+                   "a kd-tree over " + std::to_string(scene.triangles.size()) + " triangles");
+    for (size_t i = 0; i < scene.triangles.size(); ++i)
+        for (uint32_t v : scene.triangles[i]) {
+            if (v >= scene.vertices.size())
+                throw Error("kd-tree: triangle " + std::to_string(i) + " uses vertex " +
+                            std::to_string(v) + " but there are " +
+                            std::to_string(scene.vertices.size()));
+            if (!is_finite(scene.vertices[v]))
+                throw Error("kd-tree: triangle " + std::to_string(i) +
+                            " has a NaN or infinite coordinate");
+        }
+}
+
+int auto_max_depth(size_t n) {
+    const double d = 8.0 + 1.3 * std::log2(double(std::max<size_t>(n, 1)));
+    return std::min(kd_max_depth, int(d));
+}
+
+}  // namespace
+
+KdTree build_kdtree(const Scene& scene, const KdBuildConfig& config) {
+    config.validate();
+    check_input(scene);
+    const auto start = std::chrono::steady_clock::now();
+    const std::vector<TriangleVerts> triangles = gather_triangles(scene);
+    const size_t n = triangles.size();
+
+    KdTree tree;
+    NodeEvents root;
+    for (int a = 0; a < 3; ++a) root.axis[a].reserve(2 * n);
+    root.triangles = n;
+    for (size_t i = 0; i < n; ++i) {
+        const Bbox3f b = triangle_bounds(triangles[i]);
+        tree.bounds.extend(b);
+        for (int a = 0; a < 3; ++a) kd::append_events(root.axis[a], b.lo[a], b.hi[a], uint32_t(i));
+    }
+    for (EventList& list : root.axis) tbb::parallel_sort(list.begin(), list.end());
+
+    const int max_depth = config.max_depth > 0 ? config.max_depth : auto_max_depth(n);
+    Builder builder(triangles, config, max_depth);
+    Subtree out;
+    builder.build(std::move(root), tree.bounds, 0, out);
+    tree.nodes = std::move(out.nodes);
+    tree.leaf_triangles = std::move(out.leaf_triangles);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+    tree.stats = compute_stats(tree, config);
+    tree.stats.triangles = n;
+    tree.stats.build_seconds = seconds;
+    return tree;
+}
+
+}  // namespace rtt

@@ -1,0 +1,40 @@
+// A progress bar on stderr for long renders.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+#include <thread>
+
+namespace rtt::render_detail {
+
+/// Draws "[#####.....]  47%" on stderr while work advances, from its own thread. Shown only
+/// when enabled, stderr is a terminal and the work has run for about a second; the line is
+/// cleared when the bar is destroyed.
+class ProgressBar {
+public:
+    ProgressBar(uint64_t total, bool enabled);
+    ~ProgressBar();
+    ProgressBar(const ProgressBar&) = delete;
+    ProgressBar& operator=(const ProgressBar&) = delete;
+
+    /// Thread-safe.
+    void advance(uint64_t n = 1) { done_.fetch_add(n, std::memory_order_relaxed); }
+
+private:
+    void run();
+    void draw(double seconds);
+
+    uint64_t total_;
+    std::atomic<uint64_t> done_{0};
+    std::chrono::steady_clock::time_point start_;
+    std::mutex mutex_;
+    std::condition_variable wake_;
+    bool stop_ = false;
+    bool drawn_ = false;
+    std::thread thread_;
+};
+
+}  // namespace rtt::render_detail

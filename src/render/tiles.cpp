@@ -1,0 +1,182 @@
+// The image as 4x4-pixel tiles (RTT's unit), rendered in parallel with oneTBB.
+//
+// A W x H image is padded up to multiples of 4; padding pixels get CONVENTIONS' rays for the
+// ORIGINAL W, H (pixel x >= W simply continues the formula) and are cropped when samples are
+// written out, so every tile the tracer sees is whole. Each tile is independent and written
+// to disjoint pixels, so the result does not depend on the thread count or schedule.
+#include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/info.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+
+#include <chrono>
+#include <string>
+
+#include "render/progress.h"
+#include "render/render_internal.h"
+#include "rtt/camera.h"
+#include "rtt/error.h"
+#include "rtt/memory_budget.h"
+
+namespace rtt {
+
+void RenderOptions::validate(size_t light_count) const {
+    const std::string side = std::to_string(max_image_side);
+    if (width < 1 || height < 1 || width > max_image_side || height > max_image_side)
+        throw Error("image size " + std::to_string(width) + "x" + std::to_string(height) +
+                    " out of range (each side 1.." + side + ")");
+    if (aa < 1 || aa > max_aa)
+        throw Error("antialiasing " + std::to_string(aa) + " out of range (1.." +
+                    std::to_string(max_aa) + ")");
+    const uint64_t samples = uint64_t(width) * uint64_t(height) * uint64_t(aa) * uint64_t(aa);
+    if (samples > max_render_samples)
+        throw Error("image " + std::to_string(width) + "x" + std::to_string(height) + " with " +
+                    std::to_string(aa) + "x" + std::to_string(aa) + " antialiasing has " +
+                    std::to_string(samples) + " samples; at most " +
+                    std::to_string(max_render_samples) + " are allowed");
+    require_memory(render_memory_bytes(*this), "image " + std::to_string(width) + "x" +
+                                                   std::to_string(height) + " with " +
+                                                   std::to_string(aa) + "x" + std::to_string(aa) +
+                                                   " antialiasing and the requested buffers");
+    if (max_depth < 0 || max_depth > max_reflection_depth)
+        throw Error("reflection depth " + std::to_string(max_depth) + " out of range (0.." +
+                    std::to_string(max_reflection_depth) + ")");
+    if (threads < 0 || threads > max_render_threads)
+        throw Error("thread count " + std::to_string(threads) + " out of range (1.." +
+                    std::to_string(max_render_threads) + ")");
+    if (light_count > max_lights)
+        throw Error(std::to_string(light_count) + " lights; at most " + std::to_string(max_lights) +
+                    " are supported");
+    if (shadow_map_light >= 0 && size_t(shadow_map_light) >= light_count)
+        throw Error("shadow map light " + std::to_string(shadow_map_light) +
+                    " does not exist (the scene has " + std::to_string(light_count) + " lights)");
+}
+
+namespace render_detail {
+namespace {
+
+struct TileJob {
+    const RenderContext& ctx;
+    const CameraRays& camera;
+    RenderResult& out;
+};
+
+void render_tile(const TileJob& job, int tx, int ty, ThreadStats& ts) {
+    const RenderOptions& opt = job.ctx.options;
+    const int k = opt.aa, n = 4 * k, spp = k * k;
+    const int w = opt.width, h = opt.height;
+
+    // Sample (row sr, column sc) of the tile belongs to pixel (tx*4 + sc/K, ty*4 + sr/K) and is
+    // its sample (i, j) = (sc % K, sr % K).
+    RayBatch batch{n, n, true, std::vector<Ray>(size_t(n) * size_t(n))};
+    const Vec3f org = job.camera.origin();
+    for (int sr = 0; sr < n; ++sr)
+        for (int sc = 0; sc < n; ++sc)
+            batch.rays[size_t(sr) * n + sc] =
+                Ray{org, job.camera.direction(tx * 4 + sc / k, ty * 4 + sr / k, sc % k, sr % k),
+                    0.f, pos_inf};
+
+    PrimaryRecord record;
+    std::vector<Vec3f> colors(batch.rays.size());
+    trace_batch(job.ctx, ts, batch, 0, colors, &record);
+
+    RenderResult& out = job.out;
+    for (int py = 0; py < 4; ++py) {
+        const int y = ty * 4 + py;
+        if (y >= h) break;
+        for (int px = 0; px < 4; ++px) {
+            const int x = tx * 4 + px;
+            if (x >= w) break;
+            Vec3f sum{0.f};
+            int answered = 0, shadow_sum = 0, shadow_count = 0;
+            for (int j = 0; j < k; ++j) {
+                for (int i = 0; i < k; ++i) {
+                    const size_t s = size_t(py * k + j) * n + size_t(px * k + i);
+                    const size_t dst = ((size_t(y) * w + x) * k + j) * k + i;
+                    sum += colors[s];
+                    if (opt.hits_buffer) out.hits[dst] = record.hits[s].tri;
+                    if (opt.shadow_buffer) out.shadows[dst] = record.visible[s];
+                    if (opt.primary_map)
+                        answered += record.primary_answers[s] != SampleAnswer::traced;
+                    if (!record.shadow_active.empty() && record.shadow_active[s]) {
+                        const SampleAnswer a = record.shadow_answers[s];
+                        shadow_sum += a == SampleAnswer::answered_empty  ? 255
+                                      : a == SampleAnswer::answered_list ? 128
+                                                                         : 0;
+                        ++shadow_count;
+                    }
+                }
+            }
+            const size_t pixel = size_t(y) * w + x;
+            out.pixels[pixel] = sum / float(spp);
+            if (opt.primary_map) out.primary_map[pixel] = uint8_t((answered * 255 + spp / 2) / spp);
+            if (opt.shadow_map_light >= 0)
+                out.shadow_map[pixel] =
+                    shadow_count ? uint8_t((shadow_sum + shadow_count / 2) / shadow_count) : 0;
+        }
+    }
+}
+
+}  // namespace
+}  // namespace render_detail
+
+RenderResult render(const Scene& scene, const Tracer& tracer, const RenderOptions& options) {
+    using namespace render_detail;
+    const auto start = std::chrono::steady_clock::now();
+    options.validate(scene.lights.size());
+    const CameraRays camera(options.camera, options.width, options.height, options.aa);
+    const RenderContext ctx = make_context(scene, tracer, options);
+
+    RenderResult out;
+    out.width = options.width;
+    out.height = options.height;
+    out.aa = options.aa;
+    const size_t pixels = size_t(options.width) * size_t(options.height);
+    const size_t samples = pixels * size_t(options.aa) * size_t(options.aa);
+    out.pixels.resize(pixels);
+    if (options.hits_buffer) out.hits.resize(samples);
+    if (options.shadow_buffer) out.shadows.resize(samples);
+    if (options.primary_map) out.primary_map.resize(pixels);
+    if (options.shadow_map_light >= 0) out.shadow_map.resize(pixels);
+
+    const int tiles_x = (options.width + 3) / 4, tiles_y = (options.height + 3) / 4;
+    const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+    tbb::enumerable_thread_specific<ThreadStats> per_thread([&] {
+        ThreadStats s;
+        s.rays_by_depth.assign(size_t(options.max_depth) + 1, 0);
+        return s;
+    });
+    const TileJob job{ctx, camera, out};
+    {
+        ProgressBar progress(uint64_t(tiles_x) * uint64_t(tiles_y), options.progress);
+        tbb::task_arena arena(threads);
+        arena.execute([&] {
+            tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y),
+                              [&](const tbb::blocked_range<int>& r) {
+                                  ThreadStats& ts = per_thread.local();
+                                  for (int t = r.begin(); t < r.end(); ++t) {
+                                      render_tile(job, t % tiles_x, t / tiles_x, ts);
+                                      progress.advance();
+                                  }
+                              });
+        });
+    }
+
+    RenderStats& stats = out.stats;
+    stats.rays_by_depth.assign(size_t(options.max_depth) + 1, 0);
+    for (const ThreadStats& ts : per_thread) {
+        KindStats* kinds[3] = {&stats.primary, &stats.shadow, &stats.secondary};
+        for (int k = 0; k < 3; ++k) {
+            kinds[k]->trace += ts.kinds[k].trace;
+            kinds[k]->seconds += ts.kinds[k].seconds;
+        }
+        for (size_t d = 0; d < ts.rays_by_depth.size(); ++d)
+            stats.rays_by_depth[d] += ts.rays_by_depth[d];
+    }
+    stats.threads = threads;
+    stats.wall_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return out;
+}
+
+}  // namespace rtt

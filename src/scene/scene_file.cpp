@@ -1,0 +1,60 @@
+// Entry points of scene_io.h: pick the importer from the file name, then validate the result.
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "rtt/error.h"
+#include "rtt/scene_io.h"
+#include "scene/importers.h"
+
+namespace rtt {
+namespace detail {
+
+std::string one_line(const std::string& text) {
+    std::string s = text;
+    for (char& c : s)
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
+    const size_t b = s.find_first_not_of(' ');
+    if (b == std::string::npos) return {};
+    return s.substr(b, s.find_last_not_of(' ') - b + 1);
+}
+
+std::string lower_extension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    if (!ext.empty()) ext.erase(0, 1);
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
+}
+
+void require_readable_file(const std::string& path) {
+    std::error_code ec;
+    const auto st = std::filesystem::status(path, ec);
+    if (st.type() == std::filesystem::file_type::not_found) throw Error(path, 0, "no such file");
+    if (ec) throw Error(path, 0, "cannot access: " + ec.message());
+    if (std::filesystem::is_directory(st)) throw Error(path, 0, "is a directory, not a file");
+    // Devices and pipes could block or never end (/dev/zero).
+    if (!std::filesystem::is_regular_file(st)) throw Error(path, 0, "not a regular file");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(path, 0, std::string("cannot open: ") + std::strerror(errno));
+    if (in.peek() == std::ifstream::traits_type::eof()) throw Error(path, 0, "empty file");
+}
+
+}  // namespace detail
+
+Scene load_mesh_file(const std::string& path) {
+    detail::require_readable_file(path);
+    const std::string ext = detail::lower_extension(path);
+    Scene scene = ext == "obj"   ? detail::import_obj(path)
+                  : ext == "off" ? detail::import_off(path)
+                                 : detail::import_assimp(path);
+    validate(scene);
+    return scene;
+}
+
+Scene load_scene_file(const std::string& path) {
+    return detail::lower_extension(path) == "json" ? load_scene_json(path) : load_mesh_file(path);
+}
+
+}  // namespace rtt

@@ -1,0 +1,120 @@
+// Line and number reading shared by rtt's own text mesh readers (OBJ, MTL, OFF).
+// Numbers go through std::from_chars, which rounds correctly, so a float written with
+// "%.9g" reads back bit for bit (assimp's fast_atof does not: see import_obj.cpp).
+#pragma once
+
+#include <charconv>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "rtt/error.h"
+#include "rtt/math.h"
+#include "scene/importers.h"
+
+namespace rtt::detail {
+
+using Tokens = std::vector<std::string_view>;
+
+inline std::string read_text_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(path, 0, "cannot open");
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+/// Splits at spaces, tabs, carriage returns and newlines into `out` (cleared first).
+inline void split_tokens(std::string_view line, Tokens& out) {
+    out.clear();
+    size_t i = 0;
+    const auto blank = [&](size_t k) {
+        return line[k] == ' ' || line[k] == '\t' || line[k] == '\r' || line[k] == '\n';
+    };
+    while (i < line.size()) {
+        while (i < line.size() && blank(i)) ++i;
+        const size_t b = i;
+        while (i < line.size() && !blank(i)) ++i;
+        if (i > b) out.push_back(line.substr(b, i - b));
+    }
+}
+
+/// Calls `fn(tokens, line_number)` for every non-blank logical line of `text`: '#' comments
+/// stripped and, when `join_backslash`, a line ending in '\' joined with the next (OBJ).
+template <typename Fn>
+void for_each_line(const std::string& text, bool join_backslash, Fn&& fn) {
+    std::string joined;
+    Tokens tokens;
+    int line = 0, first_line = 0;
+    size_t pos = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;  // skip a UTF-8 byte order mark
+    while (pos < text.size()) {
+        size_t end = text.find('\n', pos);
+        if (end == std::string::npos) end = text.size();
+        std::string_view raw(text.data() + pos, end - pos);
+        pos = end + 1;
+        ++line;
+        if (const size_t hash = raw.find('#'); hash != std::string_view::npos)
+            raw = raw.substr(0, hash);
+        while (!raw.empty() && (raw.back() == '\r' || raw.back() == ' ' || raw.back() == '\t'))
+            raw.remove_suffix(1);
+        if (join_backslash && !raw.empty() && raw.back() == '\\') {
+            if (joined.empty()) first_line = line;
+            raw.remove_suffix(1);
+            joined.append(raw).push_back(' ');
+            continue;
+        }
+        if (!joined.empty()) {
+            joined.append(raw);
+            raw = joined;
+        } else {
+            first_line = line;
+        }
+        split_tokens(raw, tokens);
+        if (!tokens.empty()) fn(tokens, first_line);
+        joined.clear();
+    }
+    if (!joined.empty()) {
+        split_tokens(joined, tokens);
+        if (!tokens.empty()) fn(tokens, first_line);
+    }
+}
+
+/// Number parsing with "path:line: message" errors.
+struct TextParser {
+    const std::string& path;
+    int line = 0;
+
+    [[noreturn]] void fail(const std::string& message) const { throw Error(path, line, message); }
+
+    float number(std::string_view t) const {
+        std::string_view s = t;
+        if (s.size() > 1 && s[0] == '+') s.remove_prefix(1);  // from_chars refuses a leading '+'
+        float v = 0.f;
+        const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+        if (ec == std::errc::result_out_of_range)
+            fail("number out of float range: " + std::string(t));
+        if (ec != std::errc() || end != s.data() + s.size())
+            fail("expected a number, got '" + one_line(std::string(t)) + "'");
+        return v;
+    }
+
+    /// tokens[first], [first + 1], [first + 2] as a point, which must be finite.
+    Vec3f point(const Tokens& tk, size_t first, const char* what) const {
+        if (tk.size() < first + 3) fail(std::string("expected 3 coordinates for ") + what);
+        const Vec3f v{number(tk[first]), number(tk[first + 1]), number(tk[first + 2])};
+        if (!is_finite(v)) fail(std::string(what) + " has a NaN or infinite coordinate");
+        return v;
+    }
+
+    int64_t integer(std::string_view t) const {
+        int64_t v = 0;
+        const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+        if (ec != std::errc() || end != t.data() + t.size())
+            fail("expected an integer, got '" + one_line(std::string(t)) + "'");
+        return v;
+    }
+};
+
+}  // namespace rtt::detail

@@ -1,0 +1,128 @@
+// vfloat<4>: 4 floats in an SSE register (SSE4.1; AVX encodings when the compiler targets AVX).
+#pragma once
+
+#include <immintrin.h>
+
+#include "simd/vint4.h"
+
+namespace rtt {
+
+template <>
+struct alignas(16) vfloat<4> {
+    __m128 v;
+
+    vfloat() = default;
+    RTT_FORCEINLINE vfloat(__m128 x) : v(x) {}
+    /// Broadcast.
+    RTT_FORCEINLINE vfloat(float s) : v(_mm_set1_ps(s)) {}
+    RTT_FORCEINLINE operator __m128() const { return v; }
+
+    static RTT_FORCEINLINE vfloat load(const float* p) { return _mm_load_ps(p); }
+    static RTT_FORCEINLINE vfloat loadu(const float* p) { return _mm_loadu_ps(p); }
+
+    RTT_FORCEINLINE float operator[](int i) const { return v[i]; }
+    RTT_FORCEINLINE void set(int i, float s) { v[i] = s; }
+};
+using vfloat4 = vfloat<4>;
+
+RTT_FORCEINLINE void store(float* p, vfloat4 a) {
+    _mm_store_ps(p, a);
+}
+RTT_FORCEINLINE void storeu(float* p, vfloat4 a) {
+    _mm_storeu_ps(p, a);
+}
+/// Writes only the lanes of `m`; the others keep what `p` held.
+RTT_FORCEINLINE void store(vbool4 m, float* p, vfloat4 a) {
+#ifdef __AVX__
+    _mm_maskstore_ps(p, _mm_castps_si128(m), a);
+#else
+    for (uint32_t bits = movemask(m); bits; bits &= bits - 1)
+        p[std::countr_zero(bits)] = a[std::countr_zero(bits)];
+#endif
+}
+
+RTT_FORCEINLINE vfloat4 operator+(vfloat4 a, vfloat4 b) {
+    return _mm_add_ps(a, b);
+}
+RTT_FORCEINLINE vfloat4 operator-(vfloat4 a, vfloat4 b) {
+    return _mm_sub_ps(a, b);
+}
+RTT_FORCEINLINE vfloat4 operator*(vfloat4 a, vfloat4 b) {
+    return _mm_mul_ps(a, b);
+}
+RTT_FORCEINLINE vfloat4 operator/(vfloat4 a, vfloat4 b) {
+    return _mm_div_ps(a, b);
+}
+RTT_FORCEINLINE vfloat4 operator-(vfloat4 a) {
+    return _mm_xor_ps(a, _mm_set1_ps(-0.f));
+}
+
+// Comparisons follow C++: ordered (false on NaN), except != (true on NaN).
+RTT_FORCEINLINE vbool4 operator<(vfloat4 a, vfloat4 b) {
+    return _mm_cmplt_ps(a, b);
+}
+RTT_FORCEINLINE vbool4 operator<=(vfloat4 a, vfloat4 b) {
+    return _mm_cmple_ps(a, b);
+}
+RTT_FORCEINLINE vbool4 operator>(vfloat4 a, vfloat4 b) {
+    return _mm_cmpgt_ps(a, b);
+}
+RTT_FORCEINLINE vbool4 operator>=(vfloat4 a, vfloat4 b) {
+    return _mm_cmpge_ps(a, b);
+}
+RTT_FORCEINLINE vbool4 operator==(vfloat4 a, vfloat4 b) {
+    return _mm_cmpeq_ps(a, b);
+}
+RTT_FORCEINLINE vbool4 operator!=(vfloat4 a, vfloat4 b) {
+    return _mm_cmpneq_ps(a, b);
+}
+RTT_FORCEINLINE vbool4 isnan(vfloat4 a) {
+    return _mm_cmpunord_ps(a, a);
+}
+
+/// a < b ? a : b, lane by lane (the SSE rule: b when either is NaN or they are equal), so
+/// std::min(x, y) == min(y, x) bit for bit, NaN and signed zeros included.
+RTT_FORCEINLINE vfloat4 min(vfloat4 a, vfloat4 b) {
+    return _mm_min_ps(a, b);
+}
+/// a > b ? a : b, lane by lane; std::max(x, y) == max(y, x) bit for bit.
+RTT_FORCEINLINE vfloat4 max(vfloat4 a, vfloat4 b) {
+    return _mm_max_ps(a, b);
+}
+/// m ? t : f, lane by lane.
+RTT_FORCEINLINE vfloat4 select(vbool4 m, vfloat4 t, vfloat4 f) {
+    return _mm_blendv_ps(f, t, m);
+}
+RTT_FORCEINLINE vfloat4 abs(vfloat4 a) {
+    return _mm_andnot_ps(_mm_set1_ps(-0.f), a);
+}
+/// 1 / a, correctly rounded (a division, not the approximate rcpps: rtt needs exact results).
+RTT_FORCEINLINE vfloat4 rcp(vfloat4 a) {
+    return _mm_div_ps(_mm_set1_ps(1.f), a);
+}
+RTT_FORCEINLINE vfloat4 sqrt(vfloat4 a) {
+    return _mm_sqrt_ps(a);
+}
+/// Lanes whose sign bit is set (-0.f and NaNs with the sign bit included), as lane bits.
+RTT_FORCEINLINE uint32_t signbits(vfloat4 a) {
+    return uint32_t(_mm_movemask_ps(a));
+}
+
+/// Horizontal minimum / maximum broadcast to every lane (inputs without NaN).
+RTT_FORCEINLINE vfloat4 reduce_min(vfloat4 a) {
+    const vfloat4 b = _mm_min_ps(a, _mm_shuffle_ps(a, a, _MM_SHUFFLE(2, 3, 0, 1)));
+    return _mm_min_ps(b, _mm_shuffle_ps(b, b, _MM_SHUFFLE(1, 0, 3, 2)));
+}
+RTT_FORCEINLINE vfloat4 reduce_max(vfloat4 a) {
+    const vfloat4 b = _mm_max_ps(a, _mm_shuffle_ps(a, a, _MM_SHUFFLE(2, 3, 0, 1)));
+    return _mm_max_ps(b, _mm_shuffle_ps(b, b, _MM_SHUFFLE(1, 0, 3, 2)));
+}
+
+RTT_FORCEINLINE vint4 as_int(vfloat4 a) {
+    return _mm_castps_si128(a);
+}
+RTT_FORCEINLINE vfloat4 as_float(vint4 a) {
+    return _mm_castsi128_ps(a);
+}
+
+}  // namespace rtt

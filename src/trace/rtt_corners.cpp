@@ -1,0 +1,222 @@
+#include "trace/rtt_corners.h"
+
+#include "geom/triangle_simd.h"
+#include "trace/trace_ray.h"
+
+namespace rtt {
+namespace {
+
+using vf = vfloat4;
+using vb = vbool4;
+
+/// Deferred subtree of the lanes' traversal: trace_ray's per-lane intervals, the node's box and
+/// the lanes that visit it.
+struct alignas(16) CornerStackEntry {
+    vf t0, t1;
+    BoxV box;
+    uint32_t node;
+    uint32_t lanes;
+};
+
+}  // namespace
+
+template <bool AnyHit>
+CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> triangles, const Shaft& shaft,
+                           const ShaftRegion* region, const Ray (&corners)[4], TriangleMailbox& mailbox,
+                           CornerResult& out) {
+    out.list.count = 0;
+    out.deferred.count = 0;
+    out.occluded = 0;
+    out.coherent = true;
+    for (Hit& h : out.hit) h = Hit{};
+    mailbox.begin(triangles.size());
+    if (tree.nodes.empty()) return CornerStatus::traced;
+    const Vec3f org = shaft.org;
+    alignas(16) float d[3][4], tmin[4], tmax[4];
+    for (int i = 0; i < 4; ++i) {
+        for (int a = 0; a < 3; ++a) d[a][i] = corners[i].dir[a];
+        tmin[i] = corners[i].tmin;
+        tmax[i] = corners[i].tmax;
+    }
+    const vf dir[3] = {vf::load(d[0]), vf::load(d[1]), vf::load(d[2])};
+    const vf inv[3] = {rcp(dir[0]), rcp(dir[1]), rcp(dir[2])};  // 1.f / d, as trace_ray
+    bool above_first[3];
+    vb zero_dir[3];
+    for (int a = 0; a < 3; ++a) {
+        const uint32_t bits = signbits(dir[a]);
+        if (bits != 0 && bits != 0xF) return CornerStatus::untraced;  // lanes order children differently
+        above_first[a] = bits != 0;
+        zero_dir[a] = dir[a] == vf(0.f);
+    }
+    const float behind_margin = 0x1p-18f * 3.f * std::max({std::fabs(tree.bounds.lo.x - org.x), std::fabs(tree.bounds.hi.x - org.x),
+                                                           std::fabs(tree.bounds.lo.y - org.y), std::fabs(tree.bounds.hi.y - org.y),
+                                                           std::fabs(tree.bounds.lo.z - org.z), std::fabs(tree.bounds.hi.z - org.z)});
+    // trace_ray's clip to the padded root box (a NaN slab distance never shrinks the interval)
+    // and its scene_t_scale per lane (the origin is common, only max|dir| differs).
+    const Bbox3f padded = padded_bounds(tree.bounds);
+    vf t0 = vf::load(tmin), t1 = vf::load(tmax);
+    float dist = 0.f;
+    for (int a = 0; a < 3; ++a) {
+        const vf tn = vf(padded.lo[a] - org[a]) * inv[a];
+        const vf tf = vf(padded.hi[a] - org[a]) * inv[a];
+        const vb swap = tn > tf;
+        const vf lo = select(swap, tf, tn), hi = select(swap, tn, tf);
+        t0 = select(lo > t0, lo, t0);
+        t1 = select(hi < t1, hi, t1);
+        dist = std::max({dist, std::fabs(padded.lo[a] - org[a]), std::fabs(padded.hi[a] - org[a])});
+    }
+    const vf tscale = vf(dist) / max(max(abs(dir[0]), abs(dir[1])), abs(dir[2]));
+    const uint32_t entering = movemask(t0 <= t1);
+    if (entering != 0xF) out.coherent = false;
+
+    bool listing = true;  // list and deferred nodes within capacity
+    // A node no lane enters is kept for shaft culling. Shadows test it against the region at
+    // once (their region is final); closest hits keep it untested: their region's end is known
+    // only at the end, and tiles whose corners part ways never need the test.
+    const auto defer = [&](uint32_t node, const BoxV& box) {
+        if (AnyHit && !region->meets(box)) return;
+        DeferredNodes& d = out.deferred;
+        if (d.count == rtt_max_deferred) {
+            listing = false;
+            return;
+        }
+        for (int a = 0; a < 3; ++a) {
+            d.lo[a][d.count] = box.lo[a];
+            d.hi[a][d.count] = box.hi[a];
+        }
+        d.node[d.count++] = node;
+    };
+    PacketHit<4> best;
+    vf lane_tmax = vf::load(tmax);
+    const vf margin(kd_margin);
+    CornerStackEntry stack[kd_max_depth + 1];
+    int top = 0;
+    // Entries are written and read field by field: copying a whole one made GCC move it with
+    // wide loads that stall on store forwarding (as in trace_packet.cpp).
+    const auto push = [&](uint32_t node, vf ta, vf tb, const BoxV& box, uint32_t lanes) {
+        CornerStackEntry& e = stack[top++];
+        e.t0 = ta;
+        e.t1 = tb;
+        e.box.lo = box.lo;
+        e.box.hi = box.hi;
+        e.node = node;
+        e.lanes = lanes;
+    };
+    const BoxV root(tree.bounds);
+    if (entering) {
+        push(0, t0, t1, root, entering);
+    } else {
+        defer(0, root);
+    }
+    const vb axis_lane[3] = {vb::from_bits(1), vb::from_bits(2), vb::from_bits(4)};
+    const KdNode* nodes = tree.nodes.data();
+    const uint32_t* leaf_ids = tree.leaf_triangles.data();
+
+    while (top > 0) {
+        --top;
+        vf ta = stack[top].t0, tb = stack[top].t1;
+        BoxV box;
+        box.lo = stack[top].box.lo;
+        box.hi = stack[top].box.hi;
+        uint32_t index = stack[top].node, lanes = stack[top].lanes;
+        if constexpr (!AnyHit) {
+            // trace_ray: a popped node whose interval starts after best.t is skipped. A node all
+            // lanes skip may still hold what an inner ray hits before its end: deferred.
+            const uint32_t done = movemask(ta > best.t) & lanes;
+            if (done) {
+                if (done != lanes) out.coherent = false;
+                lanes &= ~done;
+                if (!lanes) {
+                    defer(index, box);
+                    continue;
+                }
+            }
+        }
+        while (!nodes[index].is_leaf()) {
+            const KdNode& n = nodes[index];
+            const int axis = n.axis();
+            const uint32_t below = index + 1, above = n.above_child();
+            const vf ds = vf(n.split - org[axis]) * inv[axis];
+            // trace_ray's margin: exact (0) for a zero direction component (d = +-inf); a NaN d
+            // leaves both children [ta, tb] through min / max, as trace_ray's NaN branch.
+            const vf m = select(zero_dir[axis], vf(0.f), (abs(ds) + tscale) * margin);
+            const vf first_hi = min(ds + m, tb);   // std::min(tb, d + m)
+            const vf second_lo = max(ds - m, ta);  // std::max(ta, d - m)
+            const uint32_t go_first = movemask(ta <= first_hi) & lanes;
+            const uint32_t go_second = movemask(second_lo <= tb) & lanes;
+            if ((go_first && go_first != lanes) || (go_second && go_second != lanes)) out.coherent = false;
+            // Children boxes: the box cut at the split (each closed).
+            BoxV below_box = box, above_box = box;
+            below_box.hi = select(axis_lane[axis], vf(n.split), box.hi);
+            above_box.lo = select(axis_lane[axis], vf(n.split), box.lo);
+            const BoxV& first_box = above_first[axis] ? above_box : below_box;
+            const BoxV& second_box = above_first[axis] ? below_box : above_box;
+            const uint32_t first = above_first[axis] ? above : below;
+            const uint32_t second = above_first[axis] ? below : above;
+            // The first child lies on the side the rays come from. With the apex clearly on the
+            // other side (farther than the float test's fuzz, see PlaneSet), every ray of the
+            // cone moves away from it for t > 0 (the direction signs are common): no accepted
+            // ray reaches it, nor passes close enough to be "hit" by rounding.
+            const float beyond = above_first[axis] ? n.split - org[axis] : org[axis] - n.split;
+            const bool behind = beyond > behind_margin;
+            if (!go_first && !behind) defer(first, first_box);
+            if (!go_second) defer(second, second_box);
+            if (go_first && go_second) push(second, second_lo, tb, second_box, go_second);
+            if (go_first) {
+                index = first;
+                tb = first_hi;
+                box = first_box;
+                lanes = go_first;
+            } else if (go_second) {
+                index = second;
+                ta = second_lo;
+                box = second_box;
+                lanes = go_second;
+            } else {
+                index = invalid_triangle;  // every interval empty (cannot happen for ta <= tb)
+                break;
+            }
+        }
+        if (index == invalid_triangle) continue;
+        const KdNode& leaf = nodes[index];
+        const uint32_t* ids = leaf_ids + leaf.first_triangle();
+        for (uint32_t k = 0, count = leaf.triangle_count(); k < count; ++k) {
+            const uint32_t id = ids[k];
+            // A triangle met again in another leaf: its corner tests cannot change (the lanes'
+            // tmax only shrank) and its relevance was decided.
+            if (mailbox.seen(id)) continue;
+            // Every lane tests every triangle met: a superset of the leaves trace_ray visits
+            // per lane, which returns the same answers (trace_ray.h).
+            const CornerVerdict v = test_corners<AnyHit>(shaft, triangles[id], lane_tmax);
+            if constexpr (AnyHit) {
+                out.occluded |= v.hit;
+                if (v.blocks_all) {
+                    out.blocker = id;
+                    out.occluded = 0xF;
+                    return CornerStatus::blocked;
+                }
+            } else if (v.hit) {
+                const vb take = best.update(vb::from_bits(v.hit), v.t, id);
+                lane_tmax = select(take, v.t, lane_tmax);  // inclusive, as trace_ray
+            }
+            if (v.relevant) {
+                if (out.list.count == rtt_max_relevant) {
+                    listing = false;
+                } else {
+                    out.list.tri[out.list.count] = id;
+                    out.list.min_offset[out.list.count++] = v.min_offset;
+                }
+            }
+        }
+    }
+    if constexpr (!AnyHit)
+        for (int i = 0; i < 4; ++i) out.hit[i] = Hit{best.t[i], uint32_t(best.tri[i])};
+    return listing ? CornerStatus::traced : CornerStatus::overflow;
+}
+
+template CornerStatus trace_corners<false>(const KdTree&, std::span<const TriangleVerts>, const Shaft&,
+                                           const ShaftRegion*, const Ray (&)[4], TriangleMailbox&, CornerResult&);
+template CornerStatus trace_corners<true>(const KdTree&, std::span<const TriangleVerts>, const Shaft&,
+                                          const ShaftRegion*, const Ray (&)[4], TriangleMailbox&, CornerResult&);
+
+}  // namespace rtt

@@ -1,0 +1,130 @@
+// RTT's corner traversal (paper section 3, ALGORITHM.md steps 1-2): the 4 corner rays of a
+// shaft go through the kd-tree as one SSE packet, with trace_ray's semantics per lane (they are
+// answers too), and every triangle of every leaf they reach is put through the shaft's five
+// conservative tests (geom/shaft.h) to build the tile's relevant list.
+//
+// Why the list holds every triangle an inner ray can hit. The paper argues by coherence: if the
+// 4 corners visit exactly the same nodes with the same decisions, the inner rays of the convex
+// shaft visit those nodes too. That argument is fragile in floating point (decisions carry
+// margins, a margin-only visit of one corner is not a visit of its neighbours, and the corner
+// rays that bound the *checked* inner rays are not exactly the tile's corners), and it gives
+// up on every tile a split plane cuts. rtt makes the coverage argument exact instead, by shaft
+// culling (Haines and Wallace, cited by the paper) of what the corners leave out:
+//   * The accepted rays of a shaft (shaft_accepts) lie in the region R: the grown slope quad
+//     (4 planes through the apex) between two offsets along kz (the rays' start and end
+//     offsets). Any triangle an accepted ray can hit within its interval meets R, and so meets
+//     the box of every kd node containing the hit point, and is listed in that node's leaves.
+//   * Induction from the root: every node the traversal reaches either is entered by at least
+//     one corner lane, whose leaves are then tested, or is one no lane enters: a child the lanes'
+//     decisions skip, or a popped node every lane has passed (closest hit). The latter are kept
+//     aside ("deferred", with their boxes) and, once R's end is known (the corners' hits),
+//     traversed by shaft culling: a node is entered when its box may meet R (collect_deferred;
+//     the tolerance of the box test, shaft.h PlaneSet, exceeds the float test's fuzz). A first
+//     child lying wholly on the far side of a split from the apex is not kept: the cone's rays
+//     all move away from it.
+// So every leaf whose box meets R is tested, whatever the corners did. The paper's incoherence
+// flag remains as a statistic (CornerResult::coherent: some node was entered by only some of the
+// lanes, or the lanes ended in different nodes); with coherent corners nothing deferred meets
+// the region in practice, and shaft culling costs one box test per skipped child.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "geom/shaft.h"
+#include "rtt/kdtree.h"
+#include "rtt/math.h"
+
+namespace rtt {
+
+/// Capacity of a tile's relevant list; a longer list ends RTT for the tile (it would not pay).
+inline constexpr int rtt_max_relevant = 64;
+/// Capacity of the deferred nodes of one tile; more ends RTT for the tile.
+inline constexpr int rtt_max_deferred = 256;
+
+struct RelevantList {
+    int count = 0;
+    uint32_t tri[rtt_max_relevant];
+    float min_offset[rtt_max_relevant];  ///< CornerVerdict::min_offset of each entry.
+};
+
+/// Marks triangles already tested in the current tile (a triangle can sit in several leaves).
+/// One per thread; a stamp per tile avoids clearing.
+class TriangleMailbox {
+public:
+    /// Starts a new tile over a scene of `triangle_count` triangles.
+    void begin(size_t triangle_count) {
+        if (marks_.size() != triangle_count) {
+            marks_.assign(triangle_count, 0);
+            stamp_ = 0;
+        }
+        if (++stamp_ == 0) {
+            std::fill(marks_.begin(), marks_.end(), 0u);
+            stamp_ = 1;
+        }
+    }
+    /// True when `id` was already seen in this tile; marks it seen.
+    bool seen(uint32_t id) {
+        if (marks_[id] == stamp_) return true;
+        marks_[id] = stamp_;
+        return false;
+    }
+
+private:
+    std::vector<uint32_t> marks_;
+    uint32_t stamp_ = 0;
+};
+
+struct DeferredNode {
+    BoxV box;
+    uint32_t node;
+};
+
+/// Nodes kept aside for shaft culling, structure of arrays (tested K at a time).
+struct DeferredNodes {
+    int count = 0;
+    alignas(64) float lo[3][rtt_max_deferred];
+    alignas(64) float hi[3][rtt_max_deferred];
+    uint32_t node[rtt_max_deferred];
+};
+
+enum class CornerStatus {
+    untraced,  ///< Corners not traced: direction signs differ (no common traversal order).
+    traced,    ///< Corners answered; `list` and `deferred` describe what they reached.
+    blocked,   ///< Shadows: `blocker` provably blocks every accepted segment of the tile.
+    overflow,  ///< Corners answered, but the list or the deferred nodes overflowed: no RTT.
+};
+
+struct CornerResult {
+    Hit hit[4];             ///< Closest-hit mode: each corner's closest hit (trace_ray's answer).
+    uint32_t occluded = 0;  ///< Any-hit mode: corners whose segment is blocked.
+    uint32_t blocker = invalid_triangle;
+    bool coherent = true;   ///< The paper's flag was never raised.
+    RelevantList list;
+    DeferredNodes deferred;
+};
+
+/// Traces the shaft's corners `corners` (corner_sample order, the rays `shaft` was made from).
+/// AnyHit = false: closest hits, lanes terminating as trace_ray's do (`out.hit`); true: shadow
+/// segments (`out.occluded`), traced to their ends (no early exit) unless one triangle blocks
+/// every accepted segment. Starts a new mailbox tile. The corners' answers are valid unless
+/// `untraced`.
+/// Nodes no lane enters are deferred (AnyHit: only when their box meets `*region`, which must
+/// hold every point of every segment answered from the list; unused for closest hits).
+template <bool AnyHit>
+CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> triangles, const Shaft& shaft,
+                           const ShaftRegion* region, const Ray (&corners)[4], TriangleMailbox& mailbox,
+                           CornerResult& out);
+
+/// Completes the list of a `traced` result by shaft culling of its deferred nodes against
+/// `region`, which must hold every point of every ray answered from the list. Returns `traced`
+/// (list complete), `blocked` (AnyHit: `out.blocker` blocks every accepted segment) or
+/// `overflow` (the list overflowed, or more than `budget` nodes had to be entered: a tile so
+/// incoherent that tracing its rays is cheaper).
+template <bool AnyHit>
+CornerStatus collect_deferred(const KdTree& tree, std::span<const TriangleVerts> triangles, const Shaft& shaft,
+                              const ShaftRegion& region, int budget, TriangleMailbox& mailbox, CornerResult& out);
+
+}  // namespace rtt

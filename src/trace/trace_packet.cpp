@@ -1,0 +1,417 @@
+#include "trace/trace_packet.h"
+
+#include <bit>
+
+#include "geom/triangle_simd.h"
+#include "simd/simd.h"
+#include "trace/factories.h"
+#include "trace/trace_ray.h"
+
+namespace rtt {
+namespace {
+
+/// One deferred subtree: node, per-lane [t0, t1] and the lanes that visit it.
+/// K = 4: one 64-byte cache line per entry.
+template <int K>
+struct alignas(sizeof(vfloat<K>)) PacketStackEntry {
+    vfloat<K> t0, t1;
+    vbool<K> active;
+    uint32_t node;
+};
+static_assert(sizeof(PacketStackEntry<4>) == 64);
+#ifdef RTT_HAVE_SIMD8
+static_assert(sizeof(PacketStackEntry<8>) == 128);
+#endif
+#ifdef RTT_HAVE_SIMD16
+static_assert(sizeof(PacketStackEntry<16>) == 192);  // the 16-lane mask is 2 bytes
+#endif
+
+/// Result of one packet traversal: closest hits (AnyHit = false) or occluded lanes (true).
+template <int K, bool AnyHit>
+struct TraversalResult;
+template <int K>
+struct TraversalResult<K, false> {
+    PacketHit<K> best;
+};
+template <int K>
+struct TraversalResult<K, true> {
+    vbool<K> occluded = vbool<K>(false);
+};
+
+/// Traverses the tree with the lanes `in` of `rays`, all of which share the sign of every
+/// direction component (the caller splits the others off).
+///
+/// Per lane this is trace_ray's traversal (trace_ray.h), step for step:
+///  * interval: [tmin, tmax] clipped to the padded bounds; a NaN slab distance never shrinks
+///    it (max/min return their second operand on NaN, as the scalar `if (tn > t0)` does);
+///  * inner node: d, m = (|d| + s) * kd_margin (0 along a zero direction component),
+///    first_hi = min(tb, d + m), second_lo = max(ta, d - m) with the scalar std::min/std::max
+///    results (see vfloat4.h: std::min(x, y) == min(y, x)), so a NaN d gives [ta, tb] to both
+///    children, as the scalar NaN branch does; the packet enters a child when some lane does,
+///    with exactly those lanes active;
+///  * a popped entry drops the lanes whose t0 exceeds their best t. A lane that visits only the
+///    far child while its neighbours take the near one reaches that child through the stack,
+///    where the scalar ray enters it directly, untested. The test cannot drop such a lane: it
+///    skips the near child only when ta > d + m >= d - m, so its far interval starts at its
+///    current ta, and ta has not changed since the lane's last pop passed the test (descending
+///    keeps ta, except into a pushed far child) while best t has not changed either (no leaf on
+///    the way). So each lane visits exactly the scalar ray's nodes, in the same order, and
+///    meets the same triangles: the answers are trace_ray's bit for bit, even on a tree that
+///    lost a triangle (tests/packet_test.cpp checks both).
+///  * leaves: each triangle against the active lanes' [tmin, best t] (inclusive); ties at
+///    equal t go to the smaller index (PacketHit::update). Any-hit lanes retire on their first
+///    hit; the traversal ends when every lane has.
+template <int K, bool AnyHit, bool CollectStats>
+RTT_FORCEINLINE TraversalResult<K, AnyHit> traverse(const KdTree& tree,
+                                                    std::span<const TriangleVerts> triangles,
+                                                    const RayPacket<K>& rays, uint32_t in,
+                                                    PacketStats* stats) {
+    using vf = vfloat<K>;
+    using vb = vbool<K>;
+    TraversalResult<K, AnyHit> result;
+
+    const Vec3v<K> org{vf::load(rays.org[0]), vf::load(rays.org[1]), vf::load(rays.org[2])};
+    const Vec3v<K> dir{vf::load(rays.dir[0]), vf::load(rays.dir[1]), vf::load(rays.dir[2])};
+    const vf inv[3] = {rcp(dir.x), rcp(dir.y), rcp(dir.z)};
+    const vf orgv[3] = {org.x, org.y, org.z};
+    const vb in_mask = vb::from_bits(in);
+    WatertightPacket<K> wp(org, dir, vf::load(rays.tmin), vf::load(rays.tmax), in_mask);
+    // The common sign: the child on the side the rays come from first is `above` when the
+    // direction's sign bit is set (also for -0), as in trace_ray.
+    const bool above_first[3] = {(signbits(dir.x) & in) != 0, (signbits(dir.y) & in) != 0,
+                                 (signbits(dir.z) & in) != 0};
+
+    vf t0 = wp.tmin, t1 = wp.tmax;
+    const Bbox3f box = padded_bounds(tree.bounds);
+    vf dist(0.f);  // largest coordinate distance from the origin to the padded box
+    for (int a = 0; a < 3; ++a) {
+        const vf lo = vf(box.lo[a]) - orgv[a], hi = vf(box.hi[a]) - orgv[a];
+        const vf tn = lo * inv[a];
+        const vf tf = hi * inv[a];
+        const vb swap = tn > tf;
+        t0 = max(select(swap, tf, tn), t0);
+        t1 = min(select(swap, tn, tf), t1);
+        dist = max(max(abs(lo), abs(hi)), dist);  // non-negative, no NaN: order is irrelevant
+    }
+    // trace_ray's scene_t_scale s, and the axes along which a lane's direction is zero (its
+    // split distances are +-inf or NaN and take no margin).
+    const vf t_scale = dist / max(max(abs(dir.x), abs(dir.y)), abs(dir.z));
+    const vb dir_zero[3] = {dir.x == vf(0.f), dir.y == vf(0.f), dir.z == vf(0.f)};
+    if constexpr (CollectStats) {
+        stats->packets += 1;
+        stats->lanes += uint64_t(std::popcount(in));
+    }
+    const vb start = in_mask & (t0 <= t1);
+    if (none(start)) return result;
+    const uint32_t started = movemask(start);
+
+    PacketStackEntry<K> stack[kd_max_depth + 1];
+    int top = 0;
+    // Entries are written and read field by field: building one in a temporary and copying it
+    // made GCC move it with unaligned 32-byte loads that stall on store forwarding.
+    const auto push = [&](uint32_t node, vf lo, vf hi, vb lanes) {
+        PacketStackEntry<K>& s = stack[top++];
+        s.t0 = lo;
+        s.t1 = hi;
+        s.active = lanes;
+        s.node = node;
+    };
+    push(0, t0, t1, start);
+    const KdNode* nodes = tree.nodes.data();
+    const uint32_t* leaf_ids = tree.leaf_triangles.data();
+    const vf margin(kd_margin);
+
+    while (top > 0) {
+        const PacketStackEntry<K>& e = stack[--top];
+        vf ta = e.t0, tb = e.t1;
+        vb active = e.active;
+        uint32_t index = e.node;
+        if constexpr (AnyHit) {
+            active = andnot(active, result.occluded);
+        } else {
+            active = andnot(active, ta > result.best.t);
+        }
+        if (none(active)) continue;
+        while (!nodes[index].is_leaf()) {
+            if constexpr (CollectStats) {
+                stats->inner += 1;
+                stats->inner_lanes += uint64_t(popcount(active));
+            }
+            const KdNode& n = nodes[index];
+            const int axis = n.axis();
+            const uint32_t below = index + 1, above = n.above_child();
+            // A branch, not a blend: it is predicted right (one sign per packet and axis), and
+            // it keeps the next node's address off the SIMD dependency chain.
+            const uint32_t first = above_first[axis] ? above : below;
+            const uint32_t second = above_first[axis] ? below : above;
+            const vf d = (vf(n.split) - orgv[axis]) * inv[axis];
+            const vf m = select(dir_zero[axis], vf(0.f), (abs(d) + t_scale) * margin);
+            const vf hi = d + m, lo = d - m;
+            const vf first_hi = min(hi, tb);
+            const vf second_lo = max(lo, ta);
+            // ta <= first_hi and second_lo <= tb, shortened: active lanes have ta <= tb (every
+            // interval is entered only when non-empty), so ta <= min(tb, hi) is !(ta > hi),
+            // NaN included; this keeps min/max off the path to the branch.
+            const vb visit_first = andnot(active, ta > hi);
+            const vb visit_second = andnot(active, lo > tb);
+            if (any(visit_first)) {
+                if (any(visit_second)) push(second, second_lo, tb, visit_second);
+                index = first;
+                tb = first_hi;
+                active = visit_first;
+            } else {
+                // Every active lane visits a child: missing both would need
+                // tb < d - m <= d + m < ta with m >= 0 (NaNs make a visit), but ta <= tb.
+                index = second;
+                ta = second_lo;
+                active = visit_second;
+            }
+        }
+        const KdNode& leaf = nodes[index];
+        const uint32_t* ids = leaf_ids + leaf.first_triangle();
+        if constexpr (CollectStats) stats->leaves += 1;
+        for (uint32_t k = 0, count = leaf.triangle_count(); k < count; ++k) {
+            const uint32_t id = ids[k];
+            if constexpr (CollectStats) {
+                stats->tests += 1;
+                stats->test_lanes += uint64_t(popcount(active));
+            }
+            vf t;
+            const vb hit = intersect_watertight<K>(wp, active, triangles[id], t);
+            if (none(hit)) continue;
+            if constexpr (AnyHit) {
+                result.occluded |= hit;
+                active = andnot(active, hit);
+                if (none(active)) break;
+            } else {
+                // inclusive tmax: a later equal-t hit still reaches the index tie-break
+                wp.tmax = select(result.best.update(hit, t, id), t, wp.tmax);
+            }
+        }
+        if constexpr (AnyHit) {
+            if ((movemask(result.occluded) & started) == started) return result;
+        }
+    }
+    return result;
+}
+
+/// Groups the lanes of `active` by the octant of their direction (sign bits of x, y, z) and
+/// calls `one(lane)` for a lone lane, `many(lanes)` for a group of several.
+template <int K, typename One, typename Many>
+RTT_FORCEINLINE void for_each_octant(const RayPacket<K>& rays, uint32_t active, One&& one,
+                                     Many&& many) {
+    const uint32_t sx = signbits(vfloat<K>::load(rays.dir[0]));
+    const uint32_t sy = signbits(vfloat<K>::load(rays.dir[1]));
+    const uint32_t sz = signbits(vfloat<K>::load(rays.dir[2]));
+    while (active) {
+        const int lane = std::countr_zero(active);
+        // all-ones where a lane's sign bit equals the first lane's, per axis
+        const uint32_t same = ~(sx ^ (0u - ((sx >> lane) & 1u))) &
+                              ~(sy ^ (0u - ((sy >> lane) & 1u))) &
+                              ~(sz ^ (0u - ((sz >> lane) & 1u))) & active;
+        active &= ~same;
+        if (same == (1u << lane))
+            one(lane);
+        else
+            many(same);
+    }
+}
+
+}  // namespace
+
+PacketStats& PacketStats::operator+=(const PacketStats& o) {
+    packets += o.packets;
+    lanes += o.lanes;
+    single_rays += o.single_rays;
+    inner += o.inner;
+    inner_lanes += o.inner_lanes;
+    leaves += o.leaves;
+    tests += o.tests;
+    test_lanes += o.test_lanes;
+    return *this;
+}
+
+template <int K>
+void trace_packet(const KdTree& tree, std::span<const TriangleVerts> triangles,
+                  const RayPacket<K>& rays, uint32_t active, Hit* hits, PacketStats* stats) {
+    if (tree.nodes.empty()) {
+        for (uint32_t b = active; b; b &= b - 1) hits[std::countr_zero(b)] = Hit{};
+        return;
+    }
+    for_each_octant<K>(
+        rays, active,
+        [&](int lane) {
+            hits[lane] = trace_ray(tree, triangles, rays.get(lane));
+            if (stats) stats->single_rays += 1;
+        },
+        [&](uint32_t lanes) {
+            const PacketHit<K> best =
+                stats ? traverse<K, false, true>(tree, triangles, rays, lanes, stats).best
+                      : traverse<K, false, false>(tree, triangles, rays, lanes, nullptr).best;
+            for (uint32_t b = lanes; b; b &= b - 1) {
+                const int lane = std::countr_zero(b);
+                hits[lane] = Hit{best.t[lane], uint32_t(best.tri[lane])};
+            }
+        });
+}
+
+template <int K>
+uint32_t occluded_packet(const KdTree& tree, std::span<const TriangleVerts> triangles,
+                         const RayPacket<K>& rays, uint32_t active, PacketStats* stats) {
+    if (tree.nodes.empty()) return 0;
+    uint32_t occluded = 0;
+    for_each_octant<K>(
+        rays, active,
+        [&](int lane) {
+            occluded |= uint32_t(occluded_ray(tree, triangles, rays.get(lane))) << lane;
+            if (stats) stats->single_rays += 1;
+        },
+        [&](uint32_t lanes) {
+            const vbool<K> hit =
+                stats ? traverse<K, true, true>(tree, triangles, rays, lanes, stats).occluded
+                      : traverse<K, true, false>(tree, triangles, rays, lanes, nullptr).occluded;
+            occluded |= movemask(hit) & lanes;
+        });
+    return occluded;
+}
+
+namespace {
+
+/// Calls fn(active lane bits, sample index per lane) for each packet-shaped block of a
+/// width x height grid; `fill(lane, sample)` stages a sample, `wanted(sample)` says whether it
+/// takes part. Inactive lanes are filled with a copy of an active sample.
+template <int K, typename Wanted, typename Fill, typename Fn>
+void for_each_block(int width, int height, RayPacket<K>& packet, Wanted&& wanted, Fill&& fill,
+                    Fn&& fn) {
+    constexpr int pw = packet_width<K>, ph = packet_height<K>;
+    int sample[K];
+    for (int y0 = 0; y0 < height; y0 += ph) {
+        for (int x0 = 0; x0 < width; x0 += pw) {
+            uint32_t active = 0;
+            for (int ly = 0; ly < ph; ++ly) {
+                for (int lx = 0; lx < pw; ++lx) {
+                    const int lane = ly * pw + lx, x = x0 + lx, y = y0 + ly;
+                    sample[lane] = -1;
+                    if (x >= width || y >= height) continue;
+                    const int s = y * width + x;
+                    if (!wanted(s)) continue;
+                    sample[lane] = s;
+                    active |= 1u << lane;
+                    fill(lane, s);
+                }
+            }
+            if (!active) continue;
+            const int donor = std::countr_zero(active);
+            for (uint32_t b = ~active & all_lanes<K>; b; b &= b - 1)
+                packet.set(std::countr_zero(b), packet.get(donor));
+            fn(active, sample);
+        }
+    }
+}
+
+}  // namespace
+
+template <int K>
+void trace_tile_packets(const KdTree& tree, std::span<const TriangleVerts> triangles,
+                        const RayTile& tile, std::span<Hit> hits, PacketStats* stats) {
+    RayPacket<K> packet;
+    for_each_block<K>(
+        tile.width, tile.height, packet, [](int) { return true; },
+        [&](int lane, int s) { packet.set(lane, tile.rays[s]); },
+        [&](uint32_t active, const int* sample) {
+            Hit out[K];
+            trace_packet<K>(tree, triangles, packet, active, out, stats);
+            for (uint32_t b = active; b; b &= b - 1)
+                hits[sample[std::countr_zero(b)]] = out[std::countr_zero(b)];
+        });
+}
+
+template <int K>
+uint64_t occluded_tile_packets(const KdTree& tree, std::span<const TriangleVerts> triangles,
+                               const SegmentTile& tile, std::span<uint8_t> visible,
+                               PacketStats* stats) {
+    for (uint8_t& v : visible) v = 0;
+    uint64_t count = 0;
+    RayPacket<K> packet;
+    for_each_block<K>(
+        tile.width, tile.height, packet, [&](int s) { return tile.active[s] != 0; },
+        [&](int lane, int s) { packet.set(lane, shadow_ray(tile.light, tile.points[s])); },
+        [&](uint32_t active, const int* sample) {
+            const uint32_t occluded = occluded_packet<K>(tree, triangles, packet, active, stats);
+            for (uint32_t b = active; b; b &= b - 1) {
+                const int lane = std::countr_zero(b);
+                visible[sample[lane]] = !((occluded >> lane) & 1u);
+            }
+            count += uint64_t(std::popcount(active));
+        });
+    return count;
+}
+
+namespace {
+
+/// The packet tracers behind the Tracer interface: "packet" (K = 4, the paper's baseline),
+/// "packet8", "packet16".
+template <int K>
+class PacketTracer final : public Tracer {
+public:
+    PacketTracer(const Scene& scene, const KdTree& tree)
+        : tree_(tree), triangles_(gather_triangles(scene)) {}
+    std::string_view name() const override {
+        return K == 4 ? "packet" : (K == 8 ? "packet8" : "packet16");
+    }
+
+    void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
+                   std::span<SampleAnswer> answers) const override {
+        trace_tile_packets<K>(tree_, triangles_, tile, hits);
+        for (SampleAnswer& a : answers) a = SampleAnswer::traced;
+        if (stats) {
+            stats->tiles += 1;
+            stats->rays += tile.rays.size();
+            stats->traced += tile.rays.size();
+        }
+    }
+
+    void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
+                  std::span<SampleAnswer> answers) const override {
+        const uint64_t n = occluded_tile_packets<K>(tree_, triangles_, tile, visible);
+        for (SampleAnswer& a : answers) a = SampleAnswer::traced;
+        if (stats) {
+            stats->tiles += 1;
+            stats->rays += n;
+            stats->traced += n;
+        }
+    }
+
+private:
+    const KdTree& tree_;
+    std::vector<TriangleVerts> triangles_;
+};
+
+}  // namespace
+
+template <int K>
+std::unique_ptr<Tracer> make_packet_tracer(const Scene& scene, const KdTree& tree) {
+    return std::make_unique<PacketTracer<K>>(scene, tree);
+}
+
+#define RTT_INSTANTIATE_PACKET(K)                                                             \
+    template void trace_packet<K>(const KdTree&, std::span<const TriangleVerts>,              \
+                                  const RayPacket<K>&, uint32_t, Hit*, PacketStats*);         \
+    template uint32_t occluded_packet<K>(const KdTree&, std::span<const TriangleVerts>,       \
+                                         const RayPacket<K>&, uint32_t, PacketStats*);        \
+    template void trace_tile_packets<K>(const KdTree&, std::span<const TriangleVerts>,        \
+                                        const RayTile&, std::span<Hit>, PacketStats*);        \
+    template uint64_t occluded_tile_packets<K>(const KdTree&, std::span<const TriangleVerts>, \
+                                               const SegmentTile&, std::span<uint8_t>,        \
+                                               PacketStats*);                                 \
+    template std::unique_ptr<Tracer> make_packet_tracer<K>(const Scene&, const KdTree&);
+
+RTT_INSTANTIATE_PACKET(4)
+#ifdef RTT_HAVE_SIMD8
+RTT_INSTANTIATE_PACKET(8)
+#endif
+#ifdef RTT_HAVE_SIMD16
+RTT_INSTANTIATE_PACKET(16)
+#endif
+
+}  // namespace rtt

@@ -1,0 +1,274 @@
+// End-to-end tests of the `rtt` program (RTT_CLI_PATH): the buffers it writes against a
+// brute-force loop over all triangles, and one-line errors for every kind of bad input.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "geom/triangle.h"
+#include "rtt/camera.h"
+#include "rtt/io.h"
+#include "rtt/tracer.h"
+#include "trace/brute_force.h"
+
+namespace rtt {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string mesh_path = std::string(RTT_TEST_DATA_DIR) + "/render_mesh.obj";
+
+struct TempDir {
+    fs::path path;
+    explicit TempDir(const std::string& name)
+        : path(fs::temp_directory_path() /
+               ("rtt_cli_test_" + std::to_string(getpid()) + "_" + name)) {
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~TempDir() { fs::remove_all(path); }
+    std::string file(const std::string& name) const { return (path / name).string(); }
+    std::vector<std::string> entries() const {
+        std::vector<std::string> names;
+        for (const auto& e : fs::directory_iterator(path))
+            names.push_back(e.path().filename().string());
+        return names;
+    }
+};
+
+std::string read_text(const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+struct RunResult {
+    int exit_code = -1;
+    std::string out, err;
+};
+
+/// Runs the CLI with `args` (already shell-quoted where needed) in `dir`.
+RunResult run_cli(const TempDir& dir, const std::string& args) {
+    const std::string out = dir.file("stdout.txt"), err = dir.file("stderr.txt");
+    const std::string cmd = "cd '" + dir.path.string() + "' && '" + std::string(RTT_CLI_PATH) +
+                            "' " + args + " >'" + out + "' 2>'" + err + "'";
+    const int status = std::system(cmd.c_str());
+    RunResult r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.out = read_text(out);
+    r.err = read_text(err);
+    fs::remove(out);
+    fs::remove(err);
+    return r;
+}
+
+/// The triangles of a triangle-and-polygon OBJ with only `v` and `f` lines, parsed here
+/// independently of the importer: faces in file order, polygons split as fans (CONVENTIONS).
+std::vector<TriangleVerts> parse_simple_obj(const std::string& path) {
+    std::ifstream in(path);
+    std::vector<Vec3f> v;
+    std::vector<TriangleVerts> tris;
+    std::string line;
+    while (std::getline(in, line)) {
+        std::istringstream ls(line);
+        std::string tag;
+        ls >> tag;
+        if (tag == "v") {
+            Vec3f p;
+            ls >> p.x >> p.y >> p.z;
+            v.push_back(p);
+        } else if (tag == "f") {
+            std::vector<int> idx;
+            int i;
+            while (ls >> i) idx.push_back(i - 1);
+            for (size_t k = 2; k < idx.size(); ++k)
+                tris.push_back({v[idx[0]], v[idx[k - 1]], v[idx[k]]});
+        }
+    }
+    return tris;
+}
+
+Bbox3f bounds_of(const std::vector<TriangleVerts>& tris) {
+    Bbox3f b;
+    for (const TriangleVerts& t : tris) {
+        b.extend(t.v0);
+        b.extend(t.v1);
+        b.extend(t.v2);
+    }
+    return b;
+}
+
+/// The "done when": the CLI's RTTH matches brute force over all triangles on every
+/// sample, for every exact tracer this build has; the RTTS follows CONVENTIONS' segments.
+TEST(Cli, RenderedBuffersMatchBruteForce) {
+    const TempDir dir("buffers");
+    const std::vector<TriangleVerts> tris = parse_simple_obj(mesh_path);
+    ASSERT_EQ(tris.size(), 257u);
+    const int w = 61, h = 47, k = 2;  // not multiples of 4: padded tiles
+    const std::vector<Vec3f> lights = {{1.5f, 2.5f, 2.f}, {-3.f, 1.f, 1.f}};
+    const std::string camera_text = "0.5,1.6,5,0,0.8,-1,0,1,0,55";
+    const Camera given = parse_camera(camera_text);
+    const Camera automatic = default_camera_for(bounds_of(tris));
+    std::vector<std::string> kinds;
+    for (const std::string& kind : tracer_kinds())
+        if (kind.rfind("embree", 0) != 0) kinds.push_back(kind);  // Embree is not exact by contract
+    for (const std::string& kind : kinds) {
+        for (const bool own_camera : {true, false}) {
+            SCOPED_TRACE(kind + (own_camera ? " --camera" : " default camera"));
+            const RunResult r = run_cli(
+                dir, "render --mesh '" + mesh_path +
+                         "' --size 61x47 --aa 2 --light 1.5,2.5,2 --light -3,1,1 "
+                         "--tracer " +
+                         kind + " --threads 2 -q --hits h.rtth --shadows s.rtts -o image.png" +
+                         (own_camera ? " --camera " + camera_text : std::string()));
+            ASSERT_EQ(r.exit_code, 0) << r.err;
+            const HitBuffer hb = read_hit_buffer(dir.file("h.rtth"));
+            const ShadowBuffer sb = read_shadow_buffer(dir.file("s.rtts"));
+            ASSERT_EQ(hb.width, uint32_t(w));
+            ASSERT_EQ(hb.height, uint32_t(h));
+            ASSERT_EQ(hb.spp, uint32_t(k * k));
+            ASSERT_EQ(sb.nlights, 2u);
+            ASSERT_TRUE(fs::exists(dir.file("image.png")));
+            const CameraRays cam(own_camera ? given : automatic, w, h, k);
+            uint64_t hit_bad = 0, shadow_bad = 0, hits = 0;
+            size_t s = 0;
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x)
+                    for (int j = 0; j < k; ++j)
+                        for (int i = 0; i < k; ++i, ++s) {
+                            const Ray ray{cam.origin(), cam.direction(x, y, i, j)};
+                            const Hit hit = trace_brute_force(tris, ray);
+                            hit_bad += hb.hits[s] != hit.tri;
+                            uint32_t expected = 0;
+                            if (hit.valid()) {
+                                ++hits;
+                                const Vec3f p = ray.org + hit.t * ray.dir;
+                                for (size_t l = 0; l < lights.size(); ++l)
+                                    if (!occluded_brute_force(tris, shadow_ray(lights[l], p)))
+                                        expected |= 1u << l;
+                            }
+                            shadow_bad += sb.bits[s] != expected;
+                        }
+            EXPECT_EQ(hit_bad, 0u);
+            EXPECT_EQ(shadow_bad, 0u);
+            EXPECT_GT(hits, uint64_t(w * h * k * k / 8));  // the view is not empty
+        }
+    }
+}
+
+TEST(Cli, HelpOnEverySubcommand) {
+    const TempDir dir("help");
+    for (const char* args : {"--help", "render --help", "info --help", "scenes --help"}) {
+        const RunResult r = run_cli(dir, args);
+        EXPECT_EQ(r.exit_code, 0) << args;
+        EXPECT_NE(r.out.find("Usage"), std::string::npos) << args;
+    }
+    EXPECT_NE(run_cli(dir, "render --help").out.find("--hits"), std::string::npos);
+}
+
+TEST(Cli, InfoAndScenes) {
+    const TempDir dir("info");
+    const RunResult info = run_cli(dir, "info --mesh '" + mesh_path + "'");
+    ASSERT_EQ(info.exit_code, 0) << info.err;
+    EXPECT_NE(info.out.find("triangles                     257"), std::string::npos) << info.out;
+    EXPECT_NE(info.out.find("SAH cost"), std::string::npos);
+    const RunResult scenes = run_cli(dir, "scenes");
+    ASSERT_EQ(scenes.exit_code, 0) << scenes.err;
+    for (const char* name : {"room", "office", "plants"})
+        EXPECT_NE(scenes.out.find(name), std::string::npos);
+}
+
+TEST(Cli, StatsAndMaps) {
+    const TempDir dir("stats");
+    const RunResult r =
+        run_cli(dir, "render --mesh '" + mesh_path +
+                         "' --size 32x24 -q --stats --stats-json s.json "
+                         "--rtt-map-primary p.png --rtt-map-shadow m.png --rtt-map-light 0");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("primary"), std::string::npos);
+    EXPECT_NE(r.out.find("Mrays/s"), std::string::npos);
+    const std::string json = read_text(dir.file("s.json"));
+    for (const char* key : {"\"primary\"", "\"shadow\"", "\"secondary\"", "\"mrays_per_second\"",
+                            "\"rays_by_depth\""})
+        EXPECT_NE(json.find(key), std::string::npos) << key;
+    EXPECT_TRUE(fs::exists(dir.file("p.png")));
+    EXPECT_TRUE(fs::exists(dir.file("m.png")));
+}
+
+/// Each kind of bad input: non-zero exit, exactly one line on stderr starting "rtt: error:",
+/// and no output file left behind.
+TEST(Cli, BadInputGivesOneLineError) {
+    const TempDir dir("errors");
+    auto write = [&](const std::string& name, const std::string& text) {
+        std::ofstream(dir.file(name)) << text;
+        return "'" + dir.file(name) + "'";
+    };
+    const std::string bad_obj = write("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n");
+    const std::string bad_ply =
+        write("bad.ply",
+              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n0\n1 1\n");
+    const std::string bad_json = write("bad.json", "{ \"meshes\": [ ");
+    const std::string no_tris = write("points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
+    const std::string nan_obj = write("nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    const std::string inf_obj = write("inf.obj", "v 0 0 0\nv 1 inf 0\nv 0 1 0\nf 1 2 3\n");
+    const std::string mesh = "--mesh '" + mesh_path + "'";
+    std::string many_lights;
+    for (int i = 0; i < 33; ++i) many_lights += " --light 0," + std::to_string(i) + ",1";
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"missing file", "render --mesh '" + dir.file("nowhere.obj") + "'"},
+        {"unreadable file (a folder)", "render --mesh '" + dir.path.string() + "'"},
+        {"malformed OBJ", "render --mesh " + bad_obj},
+        {"malformed PLY", "render --mesh " + bad_ply},
+        {"malformed JSON", "render --scene " + bad_json},
+        {"no triangles", "render --mesh " + no_tris},
+        {"NaN in file", "render --mesh " + nan_obj},
+        {"inf in file", "render --mesh " + inf_obj},
+        {"NaN camera", "render " + mesh + " --camera 0,0,5,0,0,0,0,1,0,nan"},
+        {"inf camera", "render " + mesh + " --camera 0,inf,5,0,0,0,0,1,0,60"},
+        {"short camera", "render " + mesh + " --camera 0,0,5,0,0,0,0,1,0"},
+        {"degenerate camera", "render " + mesh + " --camera 1,1,1,1,1,1,0,1,0,60"},
+        {"NaN light", "render " + mesh + " --light 1,nan,0"},
+        {"inf light", "render " + mesh + " --light 1,inf,0"},
+        {"zero size", "render " + mesh + " --size 0x480"},
+        {"absurd size", "render " + mesh + " --size 100000x100000"},
+        {"absurd sample count", "render " + mesh + " --size 16384x16384 --aa 16"},
+        {"malformed size", "render " + mesh + " --size 640by480"},
+        {"K = 0", "render " + mesh + " --aa 0"},
+        {"K = 17", "render " + mesh + " --aa 17"},
+        {"K not a number", "render " + mesh + " --aa two"},
+        {"33 lights", "render " + mesh + many_lights},
+        {"unknown tracer", "render " + mesh + " --tracer warp"},
+        {"unknown option", "render " + mesh + " --frobnicate"},
+        {"unknown subcommand", "frobnicate"},
+        {"unknown scene", "render --scene nowhere"},
+        {"mesh and scene", "render " + mesh + " --scene room"},
+        {"neither mesh nor scene", "render"},
+        {"zero threads", "render " + mesh + " --threads 0"},
+        {"absurd threads", "render " + mesh + " --threads 100000"},
+        {"negative depth", "render " + mesh + " --max-depth -1"},
+        {"missing map light", "render " + mesh + " --rtt-map-shadow m.png --rtt-map-light 5"},
+        {"unwritable output",
+         "render " + mesh + " --size 8x8 -o '" + dir.file("no/such/dir/x.png") + "'"},
+        {"info on a missing file", "info --mesh '" + dir.file("nowhere.obj") + "'"},
+    };
+    const size_t files_before = dir.entries().size();
+    for (const auto& [what, args] : cases) {
+        // Render cases also ask for every output, to check none is left behind.
+        const bool render = args.rfind("render", 0) == 0 && what != "unwritable output";
+        const RunResult r =
+            run_cli(dir, args + (render ? " -q -o out.png --hits h.rtth --shadows s.rtts" : ""));
+        EXPECT_NE(r.exit_code, 0) << what;
+        EXPECT_LT(r.exit_code, 128) << what << ": crashed";
+        EXPECT_EQ(r.err.rfind("rtt: error: ", 0), 0u) << what << ": " << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << what << ": " << r.err;
+        EXPECT_EQ(dir.entries().size(), files_before) << what << ": left a file behind";
+    }
+}
+
+}  // namespace
+}  // namespace rtt

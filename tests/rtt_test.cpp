@@ -1,0 +1,454 @@
+// The RTT tracer against the reference tracer (and the brute-force oracle on small scenes),
+// sample for sample: the same closest triangle and t (bit for bit) for primary and reflected
+// rays, the same visibility bit for shadow segments. Tiles are built as the renderer builds them
+// (render.h): 4K x 4K samples per 4x4-pixel tile over the padded image, all rays from the
+// camera, shaft = true; shadow tiles from the hits, lights inside the scenes, every hit sample
+// active or a pseudo-random part of them (spot lights). Every test also checks that RTT
+// actually answered a good share of the rays, or agreement would prove nothing.
+#include <gtest/gtest.h>
+
+#include <tbb/parallel_for.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "geom/triangle.h"
+#include "rtt/builtin_scenes.h"
+#include "rtt/camera.h"
+#include "rtt/kdtree.h"
+#include "rtt/render.h"
+#include "rtt/tracer.h"
+
+namespace rtt {
+namespace {
+
+using Tris = std::vector<TriangleVerts>;
+
+Scene scene_of(const Tris& tris) {
+    Scene s;
+    s.name = "test";
+    const uint32_t mat = s.add_material(Material{});
+    std::vector<Vec3f> v;
+    std::vector<TriangleIndices> idx;
+    for (const TriangleVerts& t : tris) {
+        const uint32_t b = uint32_t(v.size());
+        v.insert(v.end(), {t.v0, t.v1, t.v2});
+        idx.push_back({b, b + 1, b + 2});
+    }
+    s.add_mesh(v, idx, mat);
+    return s;
+}
+
+/// nu x nv quads spanned by du, dv from o, two triangles each (shared edges and vertices).
+void add_grid(Tris& out, Vec3f o, Vec3f du, Vec3f dv, int nu, int nv) {
+    const auto p = [&](int i, int j) { return o + du * (float(i) / float(nu)) + dv * (float(j) / float(nv)); };
+    for (int i = 0; i < nu; ++i)
+        for (int j = 0; j < nv; ++j) {
+            out.push_back({p(i, j), p(i + 1, j), p(i + 1, j + 1)});
+            out.push_back({p(i, j), p(i + 1, j + 1), p(i, j + 1)});
+        }
+}
+
+/// The 6 faces of a box, each an n x n grid.
+void add_box(Tris& out, Vec3f lo, Vec3f hi, int n) {
+    const Vec3f e = hi - lo;
+    add_grid(out, lo, {e.x, 0, 0}, {0, e.y, 0}, n, n);
+    add_grid(out, {lo.x, lo.y, hi.z}, {e.x, 0, 0}, {0, e.y, 0}, n, n);
+    add_grid(out, lo, {0, e.y, 0}, {0, 0, e.z}, n, n);
+    add_grid(out, {hi.x, lo.y, lo.z}, {0, e.y, 0}, {0, 0, e.z}, n, n);
+    add_grid(out, lo, {0, 0, e.z}, {e.x, 0, 0}, n, n);
+    add_grid(out, {lo.x, hi.y, lo.z}, {0, 0, e.z}, {e.x, 0, 0}, n, n);
+}
+
+void add_sphere(Tris& out, Vec3f c, float r, int nu, int nv) {
+    const auto p = [&](int i, int j) {
+        const float th = std::numbers::pi_v<float> * float(i) / float(nv);
+        const float ph = 2.f * std::numbers::pi_v<float> * float(j) / float(nu);
+        return c + Vec3f{std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph)} * r;
+    };
+    for (int i = 0; i < nv; ++i)
+        for (int j = 0; j < nu; ++j) {
+            out.push_back({p(i, j), p(i, j + 1), p(i + 1, j + 1)});
+            out.push_back({p(i, j), p(i + 1, j + 1), p(i + 1, j)});
+        }
+}
+
+void add_soup(Tris& out, size_t n, unsigned seed, Vec3f center, float extent, float size) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(-1.f, 1.f);
+    for (size_t i = 0; i < n; ++i) {
+        const Vec3f c = center + Vec3f{u(rng), u(rng), u(rng)} * extent;
+        out.push_back({c + Vec3f{u(rng), u(rng), u(rng)} * size, c + Vec3f{u(rng), u(rng), u(rng)} * size,
+                       c + Vec3f{u(rng), u(rng), u(rng)} * size});
+    }
+}
+
+/// A furnished box room around `o` (10 x 4 x 8): walls, a table, a cabinet, spheres, a soup of
+/// small triangles, coplanar overlapping panels and exact duplicates. Cameras and lights go
+/// inside.
+Tris room(Vec3f o) {
+    Tris t;
+    add_box(t, o + Vec3f{-5, 0, -4}, o + Vec3f{5, 4, 4}, 4);
+    add_box(t, o + Vec3f{-1.5f, 0.8f, -1}, o + Vec3f{1.5f, 0.9f, 1}, 2);  // table top
+    add_box(t, o + Vec3f{2, 0, -3}, o + Vec3f{3.5f, 2.5f, -2}, 3);          // cabinet
+    add_sphere(t, o + Vec3f{0, 1.3f, 0}, 0.4f, 24, 12);
+    add_sphere(t, o + Vec3f{-3, 0.5f, 2}, 0.5f, 12, 6);
+    add_soup(t, 150, 5, o + Vec3f{-3, 2, -2.5f}, 0.8f, 0.15f);
+    // Coplanar overlapping panels on the back wall plane, one exact duplicate, one in front.
+    add_grid(t, o + Vec3f{-4, 1, -4}, {2, 0, 0}, {0, 1.5f, 0}, 1, 1);
+    add_grid(t, o + Vec3f{-3.5f, 1.2f, -4}, {2, 0, 0}, {0, 1.5f, 0}, 2, 1);
+    add_grid(t, o + Vec3f{-3.5f, 1.2f, -4}, {2, 0, 0}, {0, 1.5f, 0}, 2, 1);
+    add_grid(t, o + Vec3f{-3.5f, 1.2f, -3.999f}, {1, 0, 0}, {0, 1, 0}, 1, 1);
+    return t;
+}
+
+/// The rays of primary tile (tx, ty) of a padded image, in the renderer's order.
+std::vector<Ray> tile_rays(const CameraRays& cam, int tx, int ty) {
+    const int k = cam.aa(), side = 4 * k;
+    std::vector<Ray> rays;
+    rays.reserve(size_t(side * side));
+    for (int sy = 0; sy < side; ++sy)
+        for (int sx = 0; sx < side; ++sx)
+            rays.push_back(Ray{cam.origin(), cam.direction(tx * 4 + sx / k, ty * 4 + sy / k, sx % k, sy % k), 0.f,
+                               pos_inf});
+    return rays;
+}
+
+bool same_hit(const Hit& a, const Hit& b) {
+    return a.tri == b.tri && std::bit_cast<uint32_t>(a.t) == std::bit_cast<uint32_t>(b.t);
+}
+
+struct Tally {
+    uint64_t rays = 0, mismatches = 0, answered = 0;
+    uint64_t segments = 0, segment_mismatches = 0, segments_answered = 0;
+
+    double answered_fraction() const { return rays ? double(answered) / double(rays) : 0.0; }
+    double segments_answered_fraction() const { return segments ? double(segments_answered) / double(segments) : 0.0; }
+    void print(const char* what) const {
+        std::printf("[  rtt     ] %-24s rays %7llu mismatches %llu answered %5.1f%% | segments %7llu mismatches %llu "
+                    "answered %5.1f%%\n",
+                    what, (unsigned long long)rays, (unsigned long long)mismatches, 100.0 * answered_fraction(),
+                    (unsigned long long)segments, (unsigned long long)segment_mismatches,
+                    100.0 * segments_answered_fraction());
+    }
+};
+
+/// Differential runs of camera views: RTT against `reference` on every primary ray, and on
+/// every shadow segment to each light (all hit samples active, then a pseudo-random part).
+struct Differ {
+    const Scene& scene;
+    const KdTree& tree;
+    std::unique_ptr<Tracer> rtt;
+    std::unique_ptr<Tracer> reference;
+
+    Differ(const Scene& s, const KdTree& t, const char* reference_kind)
+        : scene(s), tree(t), rtt(make_tracer("rtt", s, t)), reference(make_tracer(reference_kind, s, t)) {}
+
+    void run(const Camera& camera, int width, int height, int k, const std::vector<Vec3f>& lights, Tally& tally) {
+        const CameraRays cam(camera, width, height, k);
+        const int side = 4 * k, n = side * side;
+        const size_t ns = size_t(n);
+        std::vector<Hit> got(ns), want(ns);
+        std::vector<SampleAnswer> answers(ns);
+        std::vector<Vec3f> points(ns);
+        std::vector<uint32_t> tris(ns);
+        std::vector<uint8_t> active(ns), vis_got(ns), vis_want(ns);
+        std::mt19937 rng(unsigned(width * 7919 + height * 31 + k));
+        for (int ty = 0; ty < (height + 3) / 4; ++ty)
+            for (int tx = 0; tx < (width + 3) / 4; ++tx) {
+                const std::vector<Ray> rays = tile_rays(cam, tx, ty);
+                const RayTile tile{side, side, rays, true};
+                TraceStats st;
+                rtt->intersect(tile, got, &st, answers);
+                reference->intersect(tile, want);
+                tally.rays += ns;
+                EXPECT_EQ(st.rays, uint64_t(n));
+                EXPECT_EQ(st.traced + st.answered, st.rays);
+                for (size_t i = 0; i < ns; ++i) {
+                    if (!same_hit(got[i], want[i])) {
+                        if (tally.mismatches < 5)
+                            std::printf("primary mismatch tile (%d,%d) sample %zu: rtt %u %.9g, reference %u %.9g (%s)\n",
+                                        tx, ty, i, got[i].tri, double(got[i].t), want[i].tri, double(want[i].t),
+                                        answers[i] == SampleAnswer::traced ? "traced" : "answered");
+                        ++tally.mismatches;
+                    }
+                    tally.answered += answers[i] != SampleAnswer::traced;
+                }
+                for (size_t i = 0; i < ns; ++i) {
+                    points[i] = want[i].valid() ? rays[i].org + want[i].t * rays[i].dir : rays[i].org;
+                    tris[i] = want[i].tri;
+                }
+                for (size_t l = 0; l < lights.size(); ++l)
+                    for (int spot = 0; spot < 2; ++spot) {
+                        for (size_t i = 0; i < ns; ++i) active[i] = want[i].valid() && (spot == 0 || rng() % 4 != 0);
+                        const SegmentTile seg{side, side, lights[l], points, tris, active, true};
+                        TraceStats ss;
+                        rtt->occluded(seg, vis_got, &ss, answers);
+                        reference->occluded(seg, vis_want);
+                        EXPECT_EQ(ss.traced + ss.answered, ss.rays);
+                        for (size_t i = 0; i < ns; ++i) {
+                            if (!active[i]) {
+                                EXPECT_EQ(vis_got[i], 0);
+                                continue;
+                            }
+                            ++tally.segments;
+                            if (vis_got[i] != vis_want[i]) {
+                                if (tally.segment_mismatches < 5)
+                                    std::printf("shadow mismatch tile (%d,%d) sample %zu light %zu: rtt %d reference %d (%s)\n",
+                                                tx, ty, i, l, vis_got[i], vis_want[i],
+                                                answers[i] == SampleAnswer::traced ? "traced" : "answered");
+                                ++tally.segment_mismatches;
+                            }
+                            tally.segments_answered += answers[i] != SampleAnswer::traced;
+                        }
+                    }
+            }
+    }
+};
+
+TEST(Rtt, Registered) {
+    bool found = false;
+    for (const std::string& k : tracer_kinds()) found |= k == "rtt";
+    EXPECT_TRUE(found);
+}
+
+// Random soups: RTT rarely applies (tiles meet many triangles), but what it answers must be the
+// oracle's answer; cameras inside and outside the soup, resolutions not divisible by 4.
+TEST(Rtt, RandomSoupsMatchBruteForce) {
+    Tally tally;
+    for (unsigned seed = 1; seed <= 3; ++seed) {
+        Tris t;
+        add_soup(t, 120, seed, {0, 0, 0}, 2.f, 0.7f);
+        add_grid(t, {-3, -2.5f, -3}, {6, 0, 0}, {0, 0, 6}, 3, 3);  // a floor to land shadows on
+        const Scene scene = scene_of(t);
+        const KdTree tree = build_kdtree(scene);
+        Differ d(scene, tree, "brute");
+        const std::vector<Vec3f> lights = {{0.3f, 2.9f, 0.2f}};
+        d.run(Camera{{5, 3, 6}, {0, -0.5f, 0}, {0, 1, 0}, 45}, 37, 29, 1, lights, tally);
+        d.run(Camera{{0.1f, 0.2f, 0.3f}, {1, -1, 1}, {0, 1, 0}, 90}, 22, 17, 2, lights, tally);
+    }
+    tally.print("random soups");
+    EXPECT_EQ(tally.mismatches, 0u);
+    EXPECT_EQ(tally.segment_mismatches, 0u);
+    EXPECT_GT(tally.answered, 0u);
+}
+
+// The furnished room from inside, with K from 1 to 6, a grazing view of the floor, a wall seen
+// edge-on, and the same room 1e4 away from the origin.
+TEST(Rtt, RoomMatchesReferenceAndAnswersMostRays) {
+    for (const Vec3f offset : {Vec3f{0, 0, 0}, Vec3f{1e4f, -1e4f, 1e4f}}) {
+        const Scene scene = scene_of(room(offset));
+        const KdTree tree = build_kdtree(scene);
+        Differ d(scene, tree, "ray");
+        Tally tally;
+        const std::vector<Vec3f> lights = {offset + Vec3f{0, 3.5f, 0}, offset + Vec3f{-4, 3, 3}};
+        const auto view = [&](Vec3f pos, Vec3f at, float fovy) {
+            return Camera{offset + pos, offset + at, {0, 1, 0}, fovy};
+        };
+        d.run(view({4, 2, 3.5f}, {-2, 1, -3}, 60), 160, 120, 1, lights, tally);
+        d.run(view({-4.5f, 3.5f, 3.5f}, {2, 0.5f, -2}, 75), 62, 45, 2, lights, tally);
+        d.run(view({0, 0.05f, 3.9f}, {0, 0.02f, -4}, 50), 64, 48, 3, lights, tally);  // grazing floor
+        d.run(view({4.99f, 2, 3}, {4.99f, 2, -4}, 40), 32, 24, 4, lights, tally);     // wall edge-on
+        d.run(view({1, 1.5f, 2}, {-1, 1, -2}, 30), 10, 9, 6, lights, tally);
+        tally.print(offset.x == 0.f ? "room" : "room far from origin");
+        EXPECT_EQ(tally.mismatches, 0u);
+        EXPECT_EQ(tally.segment_mismatches, 0u);
+        EXPECT_GT(tally.answered_fraction(), 0.5);
+        EXPECT_GT(tally.segments_answered_fraction(), 0.3);
+    }
+}
+
+// Triangles whose vertices and edges lie exactly on the rays of tile corners (and on inner
+// samples), as floats: every such ray passes through a vertex or along a shared edge.
+TEST(Rtt, TrianglesOnTileCornerRays) {
+    const Camera camera{{0.25f, 0.5f, 5}, {0, 0, 0}, {0, 1, 0}, 50};
+    const int w = 24, h = 16;
+    const CameraRays cam(camera, w, h, 1);
+    Tris t;
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> depth(2.f, 6.f);
+    // A fan of triangles around points on corner rays of several tiles, at random depths, and a
+    // backdrop grid whose vertices sit on corner rays at one depth.
+    for (int ty = 0; ty < h / 4; ++ty)
+        for (int tx = 0; tx < w / 4; ++tx) {
+            const auto at = [&](int x, int y, float s) { return cam.origin() + cam.direction(x, y, 0, 0) * s; };
+            const float s = depth(rng);
+            const Vec3f c = at(tx * 4, ty * 4, s);
+            t.push_back({c, at(tx * 4 + 3, ty * 4, s), at(tx * 4 + 3, ty * 4 + 3, s)});
+            t.push_back({c, at(tx * 4 + 3, ty * 4 + 3, s), at(tx * 4, ty * 4 + 3, s)});
+            t.push_back({at(tx * 4 + 1, ty * 4 + 1, s * 0.9f), at(tx * 4 + 3, ty * 4 + 1, s * 0.9f),
+                         at(tx * 4 + 1, ty * 4 + 3, s * 0.9f)});
+        }
+    add_grid(t, {-8, -8, -3}, {16, 0, 0}, {0, 16, 0}, 5, 5);
+    const Scene scene = scene_of(t);
+    const KdTree tree = build_kdtree(scene);
+    Differ d(scene, tree, "brute");
+    Tally tally;
+    d.run(camera, w, h, 1, {{1, 2, 4}}, tally);
+    tally.print("triangles on corner rays");
+    EXPECT_EQ(tally.mismatches, 0u);
+    EXPECT_EQ(tally.segment_mismatches, 0u);
+    EXPECT_GT(tally.answered, 0u);
+}
+
+// A camera inside a closed, finely tessellated box far from the origin (Embree's watertightness
+// pattern): every ray hits, through shared edges and vertices.
+TEST(Rtt, InsideClosedBoxFarFromOrigin) {
+    const Vec3f o{1e4f, 2e4f, -3e4f};
+    Tris t;
+    add_box(t, o + Vec3f{-1, -1, -1}, o + Vec3f{1, 1, 1}, 7);
+    add_sphere(t, o + Vec3f{0.4f, -0.3f, 0.2f}, 0.3f, 16, 8);
+    const Scene scene = scene_of(t);
+    const KdTree tree = build_kdtree(scene);
+    Differ d(scene, tree, "ray");
+    Tally tally;
+    d.run(Camera{o + Vec3f{-0.3f, 0.2f, 0.5f}, o + Vec3f{0.5f, -0.4f, -1}, {0, 1, 0}, 100}, 41, 33, 1,
+          {o + Vec3f{-0.5f, 0.9f, 0.1f}}, tally);
+    d.run(Camera{o + Vec3f{0.9f, 0.9f, 0.9f}, o + Vec3f{-1, -1, -1}, {0, 1, 0}, 70}, 20, 20, 3,
+          {o + Vec3f{0.5f, -0.9f, -0.5f}}, tally);
+    tally.print("inside a far box");
+    EXPECT_EQ(tally.mismatches, 0u);
+    EXPECT_EQ(tally.segment_mismatches, 0u);
+    EXPECT_GT(tally.answered_fraction(), 0.3);
+}
+
+// A light exactly on a receiver plane (the floor): RTT must decline those shadow tiles.
+TEST(Rtt, LightOnTheReceiverPlane) {
+    Tris t;
+    add_grid(t, {-4, 0, -4}, {8, 0, 0}, {0, 0, 8}, 4, 4);
+    add_box(t, {-1, 0, -1}, {1, 1, 1}, 2);
+    const Scene scene = scene_of(t);
+    const KdTree tree = build_kdtree(scene);
+    Differ d(scene, tree, "brute");
+    Tally tally;
+    d.run(Camera{{3, 3, 5}, {0, 0, 0}, {0, 1, 0}, 60}, 32, 24, 1, {{2.5f, 0.f, 2.f}, {0, 2.5f, 0}}, tally);
+    tally.print("light on the floor");
+    EXPECT_EQ(tally.mismatches, 0u);
+    EXPECT_EQ(tally.segment_mismatches, 0u);
+}
+
+// The built-in room at two views: the scene of the paper's experiments.
+TEST(Rtt, BuiltinRoomMatchesReference) {
+    const Scene scene = make_builtin_scene("room");
+    const KdTree tree = build_kdtree(scene);
+    Differ d(scene, tree, "ray");
+    Tally tally;
+    std::vector<Vec3f> lights;
+    for (const Light& l : scene.lights) lights.push_back(l.position);
+    lights.resize(std::min<size_t>(lights.size(), 2));
+    d.run(*scene.camera, 256, 192, 1, lights, tally);
+    Camera narrow = *scene.camera;
+    narrow.fovy_deg = 25.f;
+    d.run(narrow, 42, 30, 3, lights, tally);
+    tally.print("builtin room");
+    EXPECT_EQ(tally.mismatches, 0u);
+    EXPECT_EQ(tally.segment_mismatches, 0u);
+    EXPECT_GT(tally.answered_fraction(), 0.3);
+    EXPECT_GT(tally.segments_answered_fraction(), 0.2);
+}
+
+// Reflections through the renderer: a planar mirror wall (reflected shafts with a mirrored apex
+// and per-ray tmin) and a curved mirror (packed, no shaft). Hit and shadow buffers and the
+// image must be bit-identical to the reference tracer's.
+TEST(Rtt, RenderWithMirrorsMatchesReference) {
+    Scene scene = scene_of(room({0, 0, 0}));
+    Material mirror;
+    mirror.name = "mirror";
+    mirror.mirror = 0.8f;
+    const uint32_t m = scene.add_material(mirror);
+    Tris wall, ball;
+    add_grid(wall, {-4.9f, 0.5f, -3}, {0, 0, 6}, {0, 3, 0}, 3, 2);  // planar mirror on the left wall
+    add_sphere(ball, {2.5f, 1, 1.5f}, 0.5f, 16, 8);              // curved mirror
+    for (const Tris* part : {&wall, &ball}) {
+        std::vector<Vec3f> v;
+        std::vector<TriangleIndices> idx;
+        for (const TriangleVerts& t : *part) {
+            const uint32_t b = uint32_t(v.size());
+            v.insert(v.end(), {t.v0, t.v1, t.v2});
+            idx.push_back({b, b + 1, b + 2});
+        }
+        scene.add_mesh(v, idx, m);
+    }
+    scene.lights.push_back(make_point_light({0, 3.5f, 0}, scene.bounds(), 2));
+    scene.lights.push_back(make_point_light({3, 3, -3}, scene.bounds(), 2));
+    const KdTree tree = build_kdtree(scene);
+    RenderOptions opt;
+    opt.camera = Camera{{3, 2, 3.5f}, {-4, 1.5f, -1}, {0, 1, 0}, 70};
+    opt.width = 90;
+    opt.height = 61;
+    opt.aa = 2;
+    opt.threads = 2;
+    opt.hits_buffer = opt.shadow_buffer = true;
+    const auto rtt = make_tracer("rtt", scene, tree);
+    const auto ref = make_tracer("ray", scene, tree);
+    const RenderResult a = render(scene, *rtt, opt);
+    const RenderResult b = render(scene, *ref, opt);
+    uint64_t hit_mismatches = 0, shadow_mismatches = 0, pixel_mismatches = 0;
+    for (size_t i = 0; i < a.hits.size(); ++i) hit_mismatches += a.hits[i] != b.hits[i];
+    for (size_t i = 0; i < a.shadows.size(); ++i) shadow_mismatches += a.shadows[i] != b.shadows[i];
+    for (size_t i = 0; i < a.pixels.size(); ++i) pixel_mismatches += !(a.pixels[i] == b.pixels[i]);
+    std::printf("[  rtt     ] mirrors: secondary rays %llu answered %llu, mismatches hits %llu shadows %llu pixels %llu\n",
+                (unsigned long long)a.stats.secondary.trace.rays, (unsigned long long)a.stats.secondary.trace.answered,
+                (unsigned long long)hit_mismatches, (unsigned long long)shadow_mismatches,
+                (unsigned long long)pixel_mismatches);
+    EXPECT_EQ(hit_mismatches, 0u);
+    EXPECT_EQ(shadow_mismatches, 0u);
+    EXPECT_EQ(pixel_mismatches, 0u);
+    EXPECT_GT(a.stats.secondary.trace.answered, 0u);  // reflected shafts answered by RTT
+    EXPECT_GT(a.stats.primary.trace.answered, 0u);
+}
+
+// Tiles traced concurrently (the tracer keeps its scratch per thread): same answers as one by one.
+TEST(Rtt, ConcurrentTilesAgree) {
+    const Scene scene = scene_of(room({0, 0, 0}));
+    const KdTree tree = build_kdtree(scene);
+    const auto rtt = make_tracer("rtt", scene, tree);
+    const CameraRays cam(Camera{{4, 2, 3.5f}, {-2, 1, -3}, {0, 1, 0}, 60}, 96, 64, 2);
+    const int tiles_x = 24, tiles = 24 * 16, side = 8;
+    std::vector<std::vector<Hit>> serial(tiles, std::vector<Hit>(side * side)), parallel = serial;
+    std::vector<std::vector<Ray>> rays(tiles);
+    for (int i = 0; i < tiles; ++i) rays[size_t(i)] = tile_rays(cam, i % tiles_x, i / tiles_x);
+    for (int i = 0; i < tiles; ++i) rtt->intersect(RayTile{side, side, rays[size_t(i)], true}, serial[size_t(i)]);
+    tbb::parallel_for(0, tiles, [&](int i) {
+        rtt->intersect(RayTile{side, side, rays[size_t(i)], true}, parallel[size_t(i)]);
+    });
+    uint64_t mismatches = 0;
+    for (int i = 0; i < tiles; ++i)
+        for (int s = 0; s < side * side; ++s)
+            mismatches += !same_hit(serial[size_t(i)][size_t(s)], parallel[size_t(i)][size_t(s)]);
+    EXPECT_EQ(mismatches, 0u);
+}
+
+// Tiles that are not shafts (packed reflections) or not whole grids go through the fallback.
+TEST(Rtt, NonShaftTilesAreTraced) {
+    const Scene scene = scene_of(room({0, 0, 0}));
+    const KdTree tree = build_kdtree(scene);
+    const auto rtt = make_tracer("rtt", scene, tree);
+    const auto ref = make_tracer("brute", scene, tree);
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> u(-1.f, 1.f);
+    std::vector<Ray> rays;
+    for (int i = 0; i < 37; ++i)
+        rays.push_back(Ray{{u(rng) * 4, 2 + u(rng), u(rng) * 3}, {u(rng), u(rng), u(rng)}, 0.01f, pos_inf});
+    std::vector<Hit> a(rays.size()), b(rays.size());
+    std::vector<SampleAnswer> answers(rays.size(), SampleAnswer::answered_list);
+    TraceStats st;
+    rtt->intersect(RayTile{37, 1, rays, false}, a, &st, answers);
+    ref->intersect(RayTile{37, 1, rays, false}, b);
+    uint64_t mismatches = 0, answered = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+        mismatches += !same_hit(a[i], b[i]);
+        answered += answers[i] != SampleAnswer::traced;
+    }
+    EXPECT_EQ(mismatches, 0u);
+    EXPECT_EQ(answered, 0u);
+    EXPECT_EQ(st.traced, rays.size());
+}
+
+}  // namespace
+}  // namespace rtt
