@@ -210,6 +210,7 @@ TEST(BenchPlot, SvgIsWellFormed) {
     plot.series.push_back({"room primary", {0, 1, 2}, {1.1, 1.5, 2.0}, "#1f77b4", false, false});
     plot.series.push_back({"room shadow", {0, 1, 2}, {1.0, 1.2, 1.4}, "#1f77b4", true, false});
     plot.series.push_back({"paper", {0}, {1.22}, "#000000", false, true});
+    plot.series.push_back({"paper shadow", {0}, {1.17}, "#000000", true, true});
     plot.series.push_back({"empty", {}, {}, "#000000", false, false});
     const std::string svg = render_svg(plot);
     auto count = [&](const std::string& what) {
@@ -220,7 +221,8 @@ TEST(BenchPlot, SvgIsWellFormed) {
     EXPECT_EQ(svg.rfind("<svg", 0), 0u);
     EXPECT_EQ(svg.substr(svg.size() - 7), "</svg>\n");
     EXPECT_EQ(count("<polyline"), 2u);
-    EXPECT_EQ(count("<circle"), 3u + 3u + 1u + 1u);  // points + the marker legend
+    EXPECT_EQ(count("<circle"), 3u + 3u + 1u + 1u);  // points + the circle legend
+    EXPECT_EQ(count("<rect x="), 1u + 1u + 1u);      // plot frame + square marker + its legend
     EXPECT_NE(svg.find("speed-up &lt;K&gt;"), std::string::npos);
     EXPECT_EQ(svg.find("nan"), std::string::npos);
 }

@@ -312,9 +312,10 @@ TEST(Limits, RepeatedMtllibReadsTheFileOnce) {
     // Regression: each "mtllib" line re-read its file, so a 26 KB OBJ naming a 0.5 MB MTL 2000
     // times took minutes.
     const TempDir dir("mtllib");
-    std::string mtl, obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m7\nf 1 2 3\n";
+    std::string mtl, obj;
     for (int i = 0; i < 20000; ++i) mtl += "newmtl m" + std::to_string(i) + "\nKd 0.5 0.25 1\n";
     for (int i = 0; i < 2000; ++i) obj += "mtllib m.mtl\n";
+    obj += "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m7\nf 1 2 3\n";
     dir.write("m.mtl", mtl);
     const auto start = Clock::now();
     const Scene s = load_mesh_file(dir.write("many.obj", obj));
@@ -374,7 +375,7 @@ TEST(Limits, FailedOutputsLeaveNothingBehindAndKeepExistingFiles) {
         {"parent is a file", mesh + "--hits a_file/h.rtth"},
         {"target is a folder", mesh + "--shadows a_folder"},
         {"bad input after an existing output name", mesh + "-o old.png --camera 1,2,3"},
-        {"bad size with an existing output", mesh + "-o old.png --size 0x0"},
+        {"bad K with an existing output", mesh + "-o old.png --aa 0"},
     };
     for (const Case& c : cases) {
         const RunResult r = run_cli(dir, c.args);

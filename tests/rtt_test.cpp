@@ -6,7 +6,6 @@
 // active or a pseudo-random part of them (spot lights). Every test also checks that RTT
 // actually answered a good share of the rays, or agreement would prove nothing.
 #include <gtest/gtest.h>
-
 #include <tbb/parallel_for.h>
 
 #include <bit>
@@ -46,7 +45,9 @@ Scene scene_of(const Tris& tris) {
 
 /// nu x nv quads spanned by du, dv from o, two triangles each (shared edges and vertices).
 void add_grid(Tris& out, Vec3f o, Vec3f du, Vec3f dv, int nu, int nv) {
-    const auto p = [&](int i, int j) { return o + du * (float(i) / float(nu)) + dv * (float(j) / float(nv)); };
+    const auto p = [&](int i, int j) {
+        return o + du * (float(i) / float(nu)) + dv * (float(j) / float(nv));
+    };
     for (int i = 0; i < nu; ++i)
         for (int j = 0; j < nv; ++j) {
             out.push_back({p(i, j), p(i + 1, j), p(i + 1, j + 1)});
@@ -69,7 +70,8 @@ void add_sphere(Tris& out, Vec3f c, float r, int nu, int nv) {
     const auto p = [&](int i, int j) {
         const float th = std::numbers::pi_v<float> * float(i) / float(nv);
         const float ph = 2.f * std::numbers::pi_v<float> * float(j) / float(nu);
-        return c + Vec3f{std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph)} * r;
+        return c +
+               Vec3f{std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph)} * r;
     };
     for (int i = 0; i < nv; ++i)
         for (int j = 0; j < nu; ++j) {
@@ -83,7 +85,8 @@ void add_soup(Tris& out, size_t n, unsigned seed, Vec3f center, float extent, fl
     std::uniform_real_distribution<float> u(-1.f, 1.f);
     for (size_t i = 0; i < n; ++i) {
         const Vec3f c = center + Vec3f{u(rng), u(rng), u(rng)} * extent;
-        out.push_back({c + Vec3f{u(rng), u(rng), u(rng)} * size, c + Vec3f{u(rng), u(rng), u(rng)} * size,
+        out.push_back({c + Vec3f{u(rng), u(rng), u(rng)} * size,
+                       c + Vec3f{u(rng), u(rng), u(rng)} * size,
                        c + Vec3f{u(rng), u(rng), u(rng)} * size});
     }
 }
@@ -95,7 +98,7 @@ Tris room(Vec3f o) {
     Tris t;
     add_box(t, o + Vec3f{-5, 0, -4}, o + Vec3f{5, 4, 4}, 4);
     add_box(t, o + Vec3f{-1.5f, 0.8f, -1}, o + Vec3f{1.5f, 0.9f, 1}, 2);  // table top
-    add_box(t, o + Vec3f{2, 0, -3}, o + Vec3f{3.5f, 2.5f, -2}, 3);          // cabinet
+    add_box(t, o + Vec3f{2, 0, -3}, o + Vec3f{3.5f, 2.5f, -2}, 3);        // cabinet
     add_sphere(t, o + Vec3f{0, 1.3f, 0}, 0.4f, 24, 12);
     add_sphere(t, o + Vec3f{-3, 0.5f, 2}, 0.5f, 12, 6);
     add_soup(t, 150, 5, o + Vec3f{-3, 2, -2.5f}, 0.8f, 0.15f);
@@ -114,7 +117,8 @@ std::vector<Ray> tile_rays(const CameraRays& cam, int tx, int ty) {
     rays.reserve(size_t(side * side));
     for (int sy = 0; sy < side; ++sy)
         for (int sx = 0; sx < side; ++sx)
-            rays.push_back(Ray{cam.origin(), cam.direction(tx * 4 + sx / k, ty * 4 + sy / k, sx % k, sy % k), 0.f,
+            rays.push_back(Ray{cam.origin(),
+                               cam.direction(tx * 4 + sx / k, ty * 4 + sy / k, sx % k, sy % k), 0.f,
                                pos_inf});
     return rays;
 }
@@ -128,13 +132,17 @@ struct Tally {
     uint64_t segments = 0, segment_mismatches = 0, segments_answered = 0;
 
     double answered_fraction() const { return rays ? double(answered) / double(rays) : 0.0; }
-    double segments_answered_fraction() const { return segments ? double(segments_answered) / double(segments) : 0.0; }
+    double segments_answered_fraction() const {
+        return segments ? double(segments_answered) / double(segments) : 0.0;
+    }
     void print(const char* what) const {
-        std::printf("[  rtt     ] %-24s rays %7llu mismatches %llu answered %5.1f%% | segments %7llu mismatches %llu "
-                    "answered %5.1f%%\n",
-                    what, (unsigned long long)rays, (unsigned long long)mismatches, 100.0 * answered_fraction(),
-                    (unsigned long long)segments, (unsigned long long)segment_mismatches,
-                    100.0 * segments_answered_fraction());
+        std::printf(
+            "[  rtt     ] %-24s rays %7llu mismatches %llu answered %5.1f%% | segments %7llu "
+            "mismatches %llu "
+            "answered %5.1f%%\n",
+            what, (unsigned long long)rays, (unsigned long long)mismatches,
+            100.0 * answered_fraction(), (unsigned long long)segments,
+            (unsigned long long)segment_mismatches, 100.0 * segments_answered_fraction());
     }
 };
 
@@ -147,9 +155,13 @@ struct Differ {
     std::unique_ptr<Tracer> reference;
 
     Differ(const Scene& s, const KdTree& t, const char* reference_kind)
-        : scene(s), tree(t), rtt(make_tracer("rtt", s, t)), reference(make_tracer(reference_kind, s, t)) {}
+        : scene(s),
+          tree(t),
+          rtt(make_tracer("rtt", s, t)),
+          reference(make_tracer(reference_kind, s, t)) {}
 
-    void run(const Camera& camera, int width, int height, int k, const std::vector<Vec3f>& lights, Tally& tally) {
+    void run(const Camera& camera, int width, int height, int k, const std::vector<Vec3f>& lights,
+             Tally& tally) {
         const CameraRays cam(camera, width, height, k);
         const int side = 4 * k, n = side * side;
         const size_t ns = size_t(n);
@@ -172,20 +184,25 @@ struct Differ {
                 for (size_t i = 0; i < ns; ++i) {
                     if (!same_hit(got[i], want[i])) {
                         if (tally.mismatches < 5)
-                            std::printf("primary mismatch tile (%d,%d) sample %zu: rtt %u %.9g, reference %u %.9g (%s)\n",
-                                        tx, ty, i, got[i].tri, double(got[i].t), want[i].tri, double(want[i].t),
-                                        answers[i] == SampleAnswer::traced ? "traced" : "answered");
+                            std::printf(
+                                "primary mismatch tile (%d,%d) sample %zu: rtt %u %.9g, reference "
+                                "%u %.9g (%s)\n",
+                                tx, ty, i, got[i].tri, double(got[i].t), want[i].tri,
+                                double(want[i].t),
+                                answers[i] == SampleAnswer::traced ? "traced" : "answered");
                         ++tally.mismatches;
                     }
                     tally.answered += answers[i] != SampleAnswer::traced;
                 }
                 for (size_t i = 0; i < ns; ++i) {
-                    points[i] = want[i].valid() ? rays[i].org + want[i].t * rays[i].dir : rays[i].org;
+                    points[i] =
+                        want[i].valid() ? rays[i].org + want[i].t * rays[i].dir : rays[i].org;
                     tris[i] = want[i].tri;
                 }
                 for (size_t l = 0; l < lights.size(); ++l)
                     for (int spot = 0; spot < 2; ++spot) {
-                        for (size_t i = 0; i < ns; ++i) active[i] = want[i].valid() && (spot == 0 || rng() % 4 != 0);
+                        for (size_t i = 0; i < ns; ++i)
+                            active[i] = want[i].valid() && (spot == 0 || rng() % 4 != 0);
                         const SegmentTile seg{side, side, lights[l], points, tris, active, true};
                         TraceStats ss;
                         rtt->occluded(seg, vis_got, &ss, answers);
@@ -199,9 +216,11 @@ struct Differ {
                             ++tally.segments;
                             if (vis_got[i] != vis_want[i]) {
                                 if (tally.segment_mismatches < 5)
-                                    std::printf("shadow mismatch tile (%d,%d) sample %zu light %zu: rtt %d reference %d (%s)\n",
-                                                tx, ty, i, l, vis_got[i], vis_want[i],
-                                                answers[i] == SampleAnswer::traced ? "traced" : "answered");
+                                    std::printf(
+                                        "shadow mismatch tile (%d,%d) sample %zu light %zu: rtt %d "
+                                        "reference %d (%s)\n",
+                                        tx, ty, i, l, vis_got[i], vis_want[i],
+                                        answers[i] == SampleAnswer::traced ? "traced" : "answered");
                                 ++tally.segment_mismatches;
                             }
                             tally.segments_answered += answers[i] != SampleAnswer::traced;
@@ -252,8 +271,9 @@ TEST(Rtt, RoomMatchesReferenceAndAnswersMostRays) {
         };
         d.run(view({4, 2, 3.5f}, {-2, 1, -3}, 60), 160, 120, 1, lights, tally);
         d.run(view({-4.5f, 3.5f, 3.5f}, {2, 0.5f, -2}, 75), 62, 45, 2, lights, tally);
-        d.run(view({0, 0.05f, 3.9f}, {0, 0.02f, -4}, 50), 64, 48, 3, lights, tally);  // grazing floor
-        d.run(view({4.99f, 2, 3}, {4.99f, 2, -4}, 40), 32, 24, 4, lights, tally);     // wall edge-on
+        d.run(view({0, 0.05f, 3.9f}, {0, 0.02f, -4}, 50), 64, 48, 3, lights,
+              tally);                                                              // grazing floor
+        d.run(view({4.99f, 2, 3}, {4.99f, 2, -4}, 40), 32, 24, 4, lights, tally);  // wall edge-on
         d.run(view({1, 1.5f, 2}, {-1, 1, -2}, 30), 10, 9, 6, lights, tally);
         tally.print(offset.x == 0.f ? "room" : "room far from origin");
         EXPECT_EQ(tally.mismatches, 0u);
@@ -276,7 +296,9 @@ TEST(Rtt, TrianglesOnTileCornerRays) {
     // backdrop grid whose vertices sit on corner rays at one depth.
     for (int ty = 0; ty < h / 4; ++ty)
         for (int tx = 0; tx < w / 4; ++tx) {
-            const auto at = [&](int x, int y, float s) { return cam.origin() + cam.direction(x, y, 0, 0) * s; };
+            const auto at = [&](int x, int y, float s) {
+                return cam.origin() + cam.direction(x, y, 0, 0) * s;
+            };
             const float s = depth(rng);
             const Vec3f c = at(tx * 4, ty * 4, s);
             t.push_back({c, at(tx * 4 + 3, ty * 4, s), at(tx * 4 + 3, ty * 4 + 3, s)});
@@ -307,8 +329,8 @@ TEST(Rtt, InsideClosedBoxFarFromOrigin) {
     const KdTree tree = build_kdtree(scene);
     Differ d(scene, tree, "ray");
     Tally tally;
-    d.run(Camera{o + Vec3f{-0.3f, 0.2f, 0.5f}, o + Vec3f{0.5f, -0.4f, -1}, {0, 1, 0}, 100}, 41, 33, 1,
-          {o + Vec3f{-0.5f, 0.9f, 0.1f}}, tally);
+    d.run(Camera{o + Vec3f{-0.3f, 0.2f, 0.5f}, o + Vec3f{0.5f, -0.4f, -1}, {0, 1, 0}, 100}, 41, 33,
+          1, {o + Vec3f{-0.5f, 0.9f, 0.1f}}, tally);
     d.run(Camera{o + Vec3f{0.9f, 0.9f, 0.9f}, o + Vec3f{-1, -1, -1}, {0, 1, 0}, 70}, 20, 20, 3,
           {o + Vec3f{0.5f, -0.9f, -0.5f}}, tally);
     tally.print("inside a far box");
@@ -326,7 +348,8 @@ TEST(Rtt, LightOnTheReceiverPlane) {
     const KdTree tree = build_kdtree(scene);
     Differ d(scene, tree, "brute");
     Tally tally;
-    d.run(Camera{{3, 3, 5}, {0, 0, 0}, {0, 1, 0}, 60}, 32, 24, 1, {{2.5f, 0.f, 2.f}, {0, 2.5f, 0}}, tally);
+    d.run(Camera{{3, 3, 5}, {0, 0, 0}, {0, 1, 0}, 60}, 32, 24, 1, {{2.5f, 0.f, 2.f}, {0, 2.5f, 0}},
+          tally);
     tally.print("light on the floor");
     EXPECT_EQ(tally.mismatches, 0u);
     EXPECT_EQ(tally.segment_mismatches, 0u);
@@ -362,8 +385,9 @@ TEST(Rtt, RenderWithMirrorsMatchesReference) {
     mirror.mirror = 0.8f;
     const uint32_t m = scene.add_material(mirror);
     Tris wall, ball;
-    add_grid(wall, {-4.9f, 0.5f, -3}, {0, 0, 6}, {0, 3, 0}, 3, 2);  // planar mirror on the left wall
-    add_sphere(ball, {2.5f, 1, 1.5f}, 0.5f, 16, 8);              // curved mirror
+    add_grid(wall, {-4.9f, 0.5f, -3}, {0, 0, 6}, {0, 3, 0}, 3,
+             2);                                     // planar mirror on the left wall
+    add_sphere(ball, {2.5f, 1, 1.5f}, 0.5f, 16, 8);  // curved mirror
     for (const Tris* part : {&wall, &ball}) {
         std::vector<Vec3f> v;
         std::vector<TriangleIndices> idx;
@@ -392,10 +416,12 @@ TEST(Rtt, RenderWithMirrorsMatchesReference) {
     for (size_t i = 0; i < a.hits.size(); ++i) hit_mismatches += a.hits[i] != b.hits[i];
     for (size_t i = 0; i < a.shadows.size(); ++i) shadow_mismatches += a.shadows[i] != b.shadows[i];
     for (size_t i = 0; i < a.pixels.size(); ++i) pixel_mismatches += !(a.pixels[i] == b.pixels[i]);
-    std::printf("[  rtt     ] mirrors: secondary rays %llu answered %llu, mismatches hits %llu shadows %llu pixels %llu\n",
-                (unsigned long long)a.stats.secondary.trace.rays, (unsigned long long)a.stats.secondary.trace.answered,
-                (unsigned long long)hit_mismatches, (unsigned long long)shadow_mismatches,
-                (unsigned long long)pixel_mismatches);
+    std::printf(
+        "[  rtt     ] mirrors: secondary rays %llu answered %llu, mismatches hits %llu shadows "
+        "%llu pixels %llu\n",
+        (unsigned long long)a.stats.secondary.trace.rays,
+        (unsigned long long)a.stats.secondary.trace.answered, (unsigned long long)hit_mismatches,
+        (unsigned long long)shadow_mismatches, (unsigned long long)pixel_mismatches);
     EXPECT_EQ(hit_mismatches, 0u);
     EXPECT_EQ(shadow_mismatches, 0u);
     EXPECT_EQ(pixel_mismatches, 0u);
@@ -413,7 +439,8 @@ TEST(Rtt, ConcurrentTilesAgree) {
     std::vector<std::vector<Hit>> serial(tiles, std::vector<Hit>(side * side)), parallel = serial;
     std::vector<std::vector<Ray>> rays(tiles);
     for (int i = 0; i < tiles; ++i) rays[size_t(i)] = tile_rays(cam, i % tiles_x, i / tiles_x);
-    for (int i = 0; i < tiles; ++i) rtt->intersect(RayTile{side, side, rays[size_t(i)], true}, serial[size_t(i)]);
+    for (int i = 0; i < tiles; ++i)
+        rtt->intersect(RayTile{side, side, rays[size_t(i)], true}, serial[size_t(i)]);
     tbb::parallel_for(0, tiles, [&](int i) {
         rtt->intersect(RayTile{side, side, rays[size_t(i)], true}, parallel[size_t(i)]);
     });
@@ -434,7 +461,8 @@ TEST(Rtt, NonShaftTilesAreTraced) {
     std::uniform_real_distribution<float> u(-1.f, 1.f);
     std::vector<Ray> rays;
     for (int i = 0; i < 37; ++i)
-        rays.push_back(Ray{{u(rng) * 4, 2 + u(rng), u(rng) * 3}, {u(rng), u(rng), u(rng)}, 0.01f, pos_inf});
+        rays.push_back(
+            Ray{{u(rng) * 4, 2 + u(rng), u(rng) * 3}, {u(rng), u(rng), u(rng)}, 0.01f, pos_inf});
     std::vector<Hit> a(rays.size()), b(rays.size());
     std::vector<SampleAnswer> answers(rays.size(), SampleAnswer::answered_list);
     TraceStats st;

@@ -1,6 +1,8 @@
 // RTT's geometric building blocks: the shaft's conservative rejection tests (a rejected triangle
 // is never hit by any ray the shaft accepts, whatever the float test's rounding), the whole-tile
 // occluder test, the per-ray check, the region used for shaft culling, and exact plane identity.
+#include "geom/shaft.h"
+
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -9,7 +11,6 @@
 #include <vector>
 
 #include "geom/plane_id.h"
-#include "geom/shaft.h"
 #include "geom/triangle.h"
 #include "rtt/camera.h"
 #include "rtt/tracer.h"
@@ -29,7 +30,8 @@ struct DenseTile {
 DenseTile camera_tile(std::mt19937& rng, int k) {
     std::uniform_real_distribution<float> u(-1.f, 1.f);
     const Vec3f pos{u(rng) * 5, u(rng) * 5, u(rng) * 5};
-    const Camera cam{pos, pos + Vec3f{u(rng), u(rng), u(rng)}, {0, 1, 0}, 30.f + 60.f * (u(rng) + 1.f)};
+    const Camera cam{
+        pos, pos + Vec3f{u(rng), u(rng), u(rng)}, {0, 1, 0}, 30.f + 60.f * (u(rng) + 1.f)};
     const int w = 64, h = 48;
     const CameraRays rays(cam, w, h, k);
     const int tx = int(rng() % (w / 4)), ty = int(rng() % (h / 4));
@@ -37,8 +39,9 @@ DenseTile camera_tile(std::mt19937& rng, int k) {
     t.side = 4 * k;
     for (int sy = 0; sy < t.side; ++sy)
         for (int sx = 0; sx < t.side; ++sx)
-            t.rays.push_back(Ray{rays.origin(), rays.direction(tx * 4 + sx / k, ty * 4 + sy / k, sx % k, sy % k), 0.f,
-                                 pos_inf});
+            t.rays.push_back(Ray{rays.origin(),
+                                 rays.direction(tx * 4 + sx / k, ty * 4 + sy / k, sx % k, sy % k),
+                                 0.f, pos_inf});
     return t;
 }
 
@@ -96,8 +99,9 @@ TriangleVerts near_triangle(std::mt19937& rng, const DenseTile& t) {
         return r.org + r.dir * s + Vec3f{u(rng), u(rng), u(rng)} * (width * 2.5f * s);
     };
     TriangleVerts tri{vertex(), vertex(), vertex()};
-    if (rng() % 8 == 0) tri.v2 = a.org + a.dir * (a.tmax < 10.f ? 0.7f : 3.f);  // through an inner ray
-    if (rng() % 16 == 0) tri.v2 = tri.v1;                                      // degenerate
+    if (rng() % 8 == 0)
+        tri.v2 = a.org + a.dir * (a.tmax < 10.f ? 0.7f : 3.f);  // through an inner ray
+    if (rng() % 16 == 0) tri.v2 = tri.v1;                       // degenerate
     return tri;
 }
 
@@ -152,12 +156,14 @@ TEST(Shaft, RejectedTrianglesAreNeverHitByAcceptedRays) {
         EXPECT_GT(c->checked_rays, 5000u);
     }
     EXPECT_GT(shadows.blockers, 0u);
-    std::printf("[  shaft   ] rejected %llu / %llu / %llu triangles, 0 hit by %llu / %llu / %llu accepted rays; "
-                "%llu whole-tile occluders\n",
-                (unsigned long long)primary.rejected, (unsigned long long)mirrored.rejected,
-                (unsigned long long)shadows.rejected, (unsigned long long)primary.checked_rays,
-                (unsigned long long)mirrored.checked_rays, (unsigned long long)shadows.checked_rays,
-                (unsigned long long)shadows.blockers);
+    std::printf(
+        "[  shaft   ] rejected %llu / %llu / %llu triangles, 0 hit by %llu / %llu / %llu accepted "
+        "rays; "
+        "%llu whole-tile occluders\n",
+        (unsigned long long)primary.rejected, (unsigned long long)mirrored.rejected,
+        (unsigned long long)shadows.rejected, (unsigned long long)primary.checked_rays,
+        (unsigned long long)mirrored.checked_rays, (unsigned long long)shadows.checked_rays,
+        (unsigned long long)shadows.blockers);
 }
 
 // The check must accept every ray of a renderer tile (border samples round a few ulps outside
@@ -182,7 +188,8 @@ TEST(Shaft, AcceptsEveryRayOfCameraTiles) {
 
 TEST(Shaft, RefusesWhatIsNotAShaft) {
     const Vec3f o{1, 2, 3};
-    Ray c[4] = {{o, {0.1f, 0.1f, 1}}, {o, {0.2f, 0.1f, 1}}, {o, {0.1f, 0.2f, 1}}, {o, {0.2f, 0.2f, 1}}};
+    Ray c[4] = {
+        {o, {0.1f, 0.1f, 1}}, {o, {0.2f, 0.1f, 1}}, {o, {0.1f, 0.2f, 1}}, {o, {0.2f, 0.2f, 1}}};
     Shaft s;
     EXPECT_TRUE(make_shaft(c, s));
     Ray moved[4] = {c[0], c[1], c[2], c[3]};
@@ -192,7 +199,8 @@ TEST(Shaft, RefusesWhatIsNotAShaft) {
     EXPECT_FALSE(make_shaft(crossed, s));
     Ray flat[4] = {c[0], c[0], c[2], c[2]};  // degenerate quad
     EXPECT_FALSE(make_shaft(flat, s));
-    Ray turned[4] = {c[0], c[1], c[2], {o, {1, 0.2f, 0.1f}}};  // a corner with another dominant axis
+    Ray turned[4] = {
+        c[0], c[1], c[2], {o, {1, 0.2f, 0.1f}}};  // a corner with another dominant axis
     EXPECT_FALSE(make_shaft(turned, s));
     // A ray outside the quad, or from elsewhere, is not accepted.
     EXPECT_TRUE(shaft_accepts(s, Ray{o, {0.15f, 0.15f, 1}}));
@@ -220,18 +228,20 @@ TEST(Shaft, RegionCullingIsConservative) {
         for (const Ray& r : t.rays) {
             if (!shaft_accepts(s, r)) continue;
             const float dz = std::fabs(r.dir[s.kz]);
-            for (int k = 0; k <= 16; ++k) points.push_back(r.org + r.dir * (o_hi / dz * float(k) / 16.f));
+            for (int k = 0; k <= 16; ++k)
+                points.push_back(r.org + r.dir * (o_hi / dz * float(k) / 16.f));
         }
         for (int b = 0; b < 400; ++b) {
             // Boxes around a random point of the shaft, of random size, sometimes shifted off it.
-            const Vec3f c = points[size_t(rng() % points.size())] + Vec3f(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f) * 0.2f;
+            const Vec3f c = points[size_t(rng() % points.size())] +
+                            Vec3f(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f) * 0.2f;
             const Vec3f half = Vec3f(u(rng), u(rng), u(rng)) * 0.05f;
             const Bbox3f box{c - half, c + half};
             if (region.meets(BoxV(box))) continue;
             ++dropped;
             for (const Vec3f& p : points)
-                violations += p.x >= box.lo.x && p.x <= box.hi.x && p.y >= box.lo.y && p.y <= box.hi.y &&
-                              p.z >= box.lo.z && p.z <= box.hi.z;
+                violations += p.x >= box.lo.x && p.x <= box.hi.x && p.y >= box.lo.y &&
+                              p.y <= box.hi.y && p.z >= box.lo.z && p.z <= box.hi.z;
         }
     }
     EXPECT_GT(dropped, 1000u);
@@ -248,7 +258,8 @@ int orient3d_reference(const Vec3f& a, const Vec3f& b, const Vec3f& c, const Vec
     const int128 ax = q(a.x) - q(d.x), ay = q(a.y) - q(d.y), az = q(a.z) - q(d.z);
     const int128 bx = q(b.x) - q(d.x), by = q(b.y) - q(d.y), bz = q(b.z) - q(d.z);
     const int128 cx = q(c.x) - q(d.x), cy = q(c.y) - q(d.y), cz = q(c.z) - q(d.z);
-    const int128 det = ax * (by * cz - bz * cy) + bx * (cy * az - cz * ay) + cx * (ay * bz - az * by);
+    const int128 det =
+        ax * (by * cz - bz * cy) + bx * (cy * az - cz * ay) + cx * (ay * bz - az * by);
     return det > 0 ? 1 : (det < 0 ? -1 : 0);
 }
 
@@ -284,10 +295,12 @@ TEST(PlaneId, SameIdOnlyForExactlyCoplanarTriangles) {
     // differ, never wrongly agree), axis-aligned floors (exactly coplanar: one id), triangles
     // one ulp off those floors, and degenerate triangles.
     for (int p = 0; p < 20; ++p) {
-        const Vec3f o{u(rng) * 10, u(rng) * 10, u(rng) * 10}, a{u(rng), u(rng), u(rng)}, b{u(rng), u(rng), u(rng)};
+        const Vec3f o{u(rng) * 10, u(rng) * 10, u(rng) * 10}, a{u(rng), u(rng), u(rng)},
+            b{u(rng), u(rng), u(rng)};
         for (int i = 0; i < 4; ++i)
             for (int j = 0; j < 4; ++j)
-                tris.push_back({o + a * float(i) + b * float(j), o + a * float(i + 1) + b * float(j),
+                tris.push_back({o + a * float(i) + b * float(j),
+                                o + a * float(i + 1) + b * float(j),
                                 o + a * float(i) + b * float(j + 1)});
     }
     const size_t floors = tris.size();
@@ -305,7 +318,8 @@ TEST(PlaneId, SameIdOnlyForExactlyCoplanarTriangles) {
         for (size_t j = i + 1; j < tris.size(); ++j) {
             if (ids.id[i] == no_plane || ids.id[i] != ids.id[j]) continue;
             const TriangleVerts& r = tris[i];
-            for (const Vec3f& v : {tris[j].v0, tris[j].v1, tris[j].v2}) wrong += orient3d_sign(r.v0, r.v1, r.v2, v) != 0;
+            for (const Vec3f& v : {tris[j].v0, tris[j].v1, tris[j].v2})
+                wrong += orient3d_sign(r.v0, r.v1, r.v2, v) != 0;
         }
     EXPECT_EQ(wrong, 0u);
     // Axis-aligned floors at one height share one id; the one-ulp-off triangle has its own.

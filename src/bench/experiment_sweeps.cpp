@@ -59,10 +59,6 @@ ExperimentResult run_sweep(const BenchConfig& config, SceneCache& scenes, const 
         plot.x_ticks.push_back(double(i));
         plot.x_tick_labels.push_back(sweep.points[i].label);
     }
-    PlotSeries paper_points;
-    paper_points.label = "paper, 640x480 1x1";
-    paper_points.color = "#000000";
-    paper_points.markers_only = true;
     for (size_t s = 0; s < config.scenes.size(); ++s) {
         const std::string& name = config.scenes[s];
         for (bool shadow : {false, true}) {
@@ -90,14 +86,22 @@ ExperimentResult run_sweep(const BenchConfig& config, SceneCache& scenes, const 
             speed.rows.push_back(srow);
             traced.rows.push_back(trow);
             plot.series.push_back(series);
-            const paper::Table1Column* p = paper::table1_column(name);
-            if (p && sweep.paper_point >= 0) {
-                paper_points.x.push_back(double(sweep.paper_point));
-                paper_points.y.push_back(shadow ? p->shadow_speedup() : p->primary_speedup());
-            }
         }
     }
-    plot.series.push_back(paper_points);
+    // The paper's Table 1 speed-ups as hollow markers in the scene's colour (squares: shadow).
+    for (const std::string& name : config.scenes)
+        for (bool shadow : {false, true}) {
+            const paper::Table1Column* p = paper::table1_column(name);
+            if (!p || sweep.paper_point < 0) continue;
+            PlotSeries reference;
+            reference.label = name + (shadow ? " shadow" : " primary") + ", paper";
+            reference.color = scene_color(name);
+            reference.markers_only = true;
+            reference.dashed = shadow;
+            reference.x = {double(sweep.paper_point)};
+            reference.y = {shadow ? p->shadow_speedup() : p->primary_speedup()};
+            plot.series.push_back(reference);
+        }
     if (sweep.paper_point >= 0)
         speed.notes.push_back(
             "The paper's Table 1 speed-ups (640x480, 1x1): room 1.23x / 1.17x, "

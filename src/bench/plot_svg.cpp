@@ -55,6 +55,19 @@ std::string format_tick(double v, double step) {
     return t;
 }
 
+/// A data point: a small filled circle on a line, or a hollow circle / square (see PlotSeries).
+std::string marker(const PlotSeries& s, double x, double y) {
+    const std::string stroke = "\" stroke=\"" + s.color + "\" stroke-width=\"1.5\"/>\n";
+    if (!s.markers_only)
+        return "<circle cx=\"" + number(x) + "\" cy=\"" + number(y) + "\" r=\"3\" fill=\"" +
+               s.color + stroke;
+    if (s.dashed)
+        return "<rect x=\"" + number(x - 4.5) + "\" y=\"" + number(y - 4.5) +
+               "\" width=\"9\" height=\"9\" fill=\"white" + stroke;
+    return "<circle cx=\"" + number(x) + "\" cy=\"" + number(y) + "\" r=\"5\" fill=\"white" +
+           stroke;
+}
+
 }  // namespace
 
 std::string render_svg(const LinePlot& plot) {
@@ -123,16 +136,11 @@ std::string render_svg(const LinePlot& plot) {
             svg += "<polyline fill=\"none\" stroke=\"" + s.color + "\" stroke-width=\"2\"" + dash +
                    " points=\"" + points + "\"/>\n";
         }
-        const std::string fill = s.markers_only ? "white" : s.color;
-        for (size_t i = 0; i < n; ++i)
-            svg += "<circle cx=\"" + number(px(s.x[i])) + "\" cy=\"" + number(py(s.y[i])) +
-                   "\" r=\"" + (s.markers_only ? "5" : "3") + "\" fill=\"" + fill + "\" stroke=\"" +
-                   s.color + "\" stroke-width=\"1.5\"/>\n";
+        for (size_t i = 0; i < n; ++i) svg += marker(s, px(s.x[i]), py(s.y[i]));
         const double ly = top + 10 + 18 * legend_row++;
         const double lx = left + pw + 12;
         if (s.markers_only)
-            svg += "<circle cx=\"" + number(lx + 12) + "\" cy=\"" + number(ly) +
-                   "\" r=\"5\" fill=\"white\" stroke=\"" + s.color + "\" stroke-width=\"1.5\"/>\n";
+            svg += marker(s, lx + 12, ly);
         else
             svg += "<line x1=\"" + number(lx) + "\" y1=\"" + number(ly) + "\" x2=\"" +
                    number(lx + 24) + "\" y2=\"" + number(ly) + "\" stroke=\"" + s.color +

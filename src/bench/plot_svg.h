@@ -13,7 +13,9 @@ struct PlotSeries {
     std::vector<double> x, y;  ///< Same length; points are joined in order.
     std::string color = "#1f77b4";
     bool dashed = false;
-    bool markers_only = false;  ///< Hollow markers without a line (reference points).
+    /// Hollow markers without a line (reference points): circles, or squares when `dashed`
+    /// (the plots draw shadow rays dashed, so a square marks a shadow-ray reference).
+    bool markers_only = false;
 };
 
 struct LinePlot {

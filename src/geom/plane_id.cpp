@@ -114,9 +114,10 @@ int orient3d_sign(const Vec3f& a, const Vec3f& b, const Vec3f& c, const Vec3f& d
     const double m2 = cy.hi * az.hi - cz.hi * ay.hi;
     const double m3 = ay.hi * bz.hi - az.hi * by.hi;
     const double det = ax.hi * m1 + bx.hi * m2 + cx.hi * m3;
-    const double permanent = std::fabs(ax.hi) * (std::fabs(by.hi * cz.hi) + std::fabs(bz.hi * cy.hi)) +
-                             std::fabs(bx.hi) * (std::fabs(cy.hi * az.hi) + std::fabs(cz.hi * ay.hi)) +
-                             std::fabs(cx.hi) * (std::fabs(ay.hi * bz.hi) + std::fabs(az.hi * by.hi));
+    const double permanent =
+        std::fabs(ax.hi) * (std::fabs(by.hi * cz.hi) + std::fabs(bz.hi * cy.hi)) +
+        std::fabs(bx.hi) * (std::fabs(cy.hi * az.hi) + std::fabs(cz.hi * ay.hi)) +
+        std::fabs(cx.hi) * (std::fabs(ay.hi * bz.hi) + std::fabs(az.hi * by.hi));
     const double bound = 4e-15 * permanent;
     if (det > bound) return 1;
     if (det < -bound) return -1;
@@ -154,7 +155,9 @@ struct PlaneKeyHash {
     }
 };
 
-bool same_point(const Vec3f& a, const Vec3f& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+bool same_point(const Vec3f& a, const Vec3f& b) {
+    return a.x == b.x && a.y == b.y && a.z == b.z;
+}
 
 /// Every vertex of `t` lies exactly on the plane of the (non-degenerate) triangle `r`.
 bool on_plane_of(const TriangleVerts& r, const TriangleVerts& t) {
@@ -173,7 +176,8 @@ PlaneIds compute_plane_ids(std::span<const TriangleVerts> triangles) {
     double scale = 0.0;
     for (const TriangleVerts& t : triangles)
         for (const Vec3f& v : {t.v0, t.v1, t.v2})
-            scale = std::max({scale, double(std::fabs(v.x)), double(std::fabs(v.y)), double(std::fabs(v.z))});
+            scale = std::max(
+                {scale, double(std::fabs(v.x)), double(std::fabs(v.y)), double(std::fabs(v.z))});
     if (!(scale > 0.0)) scale = 1.0;
     constexpr double cells = 1048576.0;  // 2^20 cells per unit: far coarser than rounding
 
@@ -186,19 +190,22 @@ PlaneIds compute_plane_ids(std::span<const TriangleVerts> triangles) {
             if (t.v0[a] == t.v1[a] && t.v1[a] == t.v2[a])
                 key = {1, {a, int64_t(std::bit_cast<uint32_t>(t.v0[a] + 0.f)), 0, 0}};  // -0 -> +0
         if (key.kind == 0) {
-            const double e1[3] = {double(t.v1.x) - t.v0.x, double(t.v1.y) - t.v0.y, double(t.v1.z) - t.v0.z};
-            const double e2[3] = {double(t.v2.x) - t.v0.x, double(t.v2.y) - t.v0.y, double(t.v2.z) - t.v0.z};
+            const double e1[3] = {double(t.v1.x) - t.v0.x, double(t.v1.y) - t.v0.y,
+                                  double(t.v1.z) - t.v0.z};
+            const double e2[3] = {double(t.v2.x) - t.v0.x, double(t.v2.y) - t.v0.y,
+                                  double(t.v2.z) - t.v0.z};
             double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
                            e1[0] * e2[1] - e1[1] * e2[0]};
             const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-            const int big = std::fabs(n[0]) >= std::fabs(n[1]) ? (std::fabs(n[0]) >= std::fabs(n[2]) ? 0 : 2)
-                                                                : (std::fabs(n[1]) >= std::fabs(n[2]) ? 1 : 2);
+            const int big = std::fabs(n[0]) >= std::fabs(n[1])
+                                ? (std::fabs(n[0]) >= std::fabs(n[2]) ? 0 : 2)
+                                : (std::fabs(n[1]) >= std::fabs(n[2]) ? 1 : 2);
             const double s = (n[big] < 0.0 ? -1.0 : 1.0) / len;
             for (double& c : n) c *= s;
             const double d = n[0] * t.v0.x + n[1] * t.v0.y + n[2] * t.v0.z;
             key = {2,
-                   {std::llround(n[0] * cells), std::llround(n[1] * cells), std::llround(n[2] * cells),
-                    std::llround(d / scale * cells)}};
+                   {std::llround(n[0] * cells), std::llround(n[1] * cells),
+                    std::llround(n[2] * cells), std::llround(d / scale * cells)}};
         }
         std::vector<uint32_t>& bucket = buckets[key];
         for (uint32_t pid : bucket) {

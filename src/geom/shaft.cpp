@@ -42,15 +42,16 @@ bool make_shaft(const Ray (&c)[4], Shaft& s) {
     // The slope quad in cyclic order q = 0, 1, 3, 2, one edge per SIMD lane: edge m runs from
     // corner q[m] to corner q[m+1]. rot(k) holds the corners shifted by k.
     using vf = vfloat4;
-    const float cx[4] = {s.sx[0], s.sx[1], s.sx[3], s.sx[2]}, cy[4] = {s.sy[0], s.sy[1], s.sy[3], s.sy[2]};
-    const auto rot = [](const float (&c)[4], int k) {
+    const float cx[4] = {s.sx[0], s.sx[1], s.sx[3], s.sx[2]},
+                cy[4] = {s.sy[0], s.sy[1], s.sy[3], s.sy[2]};
+    const auto rot = [](const float(&c)[4], int k) {
         alignas(16) const float r[4] = {c[k & 3], c[(k + 1) & 3], c[(k + 2) & 3], c[(k + 3) & 3]};
         return vf::load(r);
     };
     const vf px = rot(cx, 0), py = rot(cy, 0), px1 = rot(cx, 1), py1 = rot(cy, 1);
-    const vf ex = px1 - px, ey = py1 - py;                                      // edge m
-    const vf ex_next = rot(cx, 2) - px1, ey_next = rot(cy, 2) - py1;            // edge m + 1
-    const vf ex_prev = px - rot(cx, 3), ey_prev = py - rot(cy, 3);              // edge m - 1
+    const vf ex = px1 - px, ey = py1 - py;                            // edge m
+    const vf ex_next = rot(cx, 2) - px1, ey_next = rot(cy, 2) - py1;  // edge m + 1
+    const vf ex_prev = px - rot(cx, 3), ey_prev = py - rot(cy, 3);    // edge m - 1
     // Turn at corner m + 1: cross(e_m, e_m+1). All of one sign, or the quad is refused. (The
     // region the check accepts is the intersection of the 4 half-planes, inside the quad's
     // convex hull even if rounding let a nearly flat corner through.)

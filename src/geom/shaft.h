@@ -98,7 +98,7 @@ struct alignas(16) Shaft {
     /// The grown quad as 4 planes through the apex, world axes: every point org + t d of an
     /// accepted ray (t >= 0) has frustum_n[m] . (point - org) >= 0.
     float frustum_nx[4], frustum_ny[4], frustum_nz[4];
-    Vec3f org;         ///< The common apex.
+    Vec3f org;                   ///< The common apex.
     int kx = 0, ky = 1, kz = 2;  ///< Watertight permutation shared by the corners.
     float sign_z = 1.f;          ///< Sign of d[kz] for every ray.
     /// How far (max-norm, in slope units) the grown quad Q' moves the corners' slopes.
@@ -144,8 +144,10 @@ struct PlaneSet {
 
     /// Whether the box (its corners relative to org, each coordinate broadcast) may meet all 4
     /// half-spaces.
-    RTT_FORCEINLINE bool meets(vfloat4 lx, vfloat4 ly, vfloat4 lz, vfloat4 hx, vfloat4 hy, vfloat4 hz) const {
-        const vfloat4 best = (max(nx * lx, nx * hx) + max(ny * ly, ny * hy)) + max(nz * lz, nz * hz);
+    RTT_FORCEINLINE bool meets(vfloat4 lx, vfloat4 ly, vfloat4 lz, vfloat4 hx, vfloat4 hy,
+                               vfloat4 hz) const {
+        const vfloat4 best =
+            (max(nx * lx, nx * hx) + max(ny * ly, ny * hy)) + max(nz * lz, nz * hz);
         return none(best < limit);
     }
 };
@@ -160,7 +162,8 @@ struct ShaftRegion {
     vfloat4 org;
     bool use_slab = true;
 
-    ShaftRegion(const Shaft& s, const Bbox3f& scene, float o_lo, float o_hi) : org(BoxV::lanes(s.org)) {
+    ShaftRegion(const Shaft& s, const Bbox3f& scene, float o_lo, float o_hi)
+        : org(BoxV::lanes(s.org)) {
         using vf = vfloat4;
         extent_ = max(abs(scene.lo - s.org), abs(scene.hi - s.org));
         cone.nx = vf::loadu(s.frustum_nx);
@@ -190,7 +193,8 @@ struct ShaftRegion {
         using vf = vfloat4;
         const vf dlo = box.lo - org, dhi = box.hi - org;
         const vf lx(dlo[0]), ly(dlo[1]), lz(dlo[2]), hx(dhi[0]), hy(dhi[1]), hz(dhi[2]);
-        return cone.meets(lx, ly, lz, hx, hy, hz) && (!use_slab || slab.meets(lx, ly, lz, hx, hy, hz));
+        return cone.meets(lx, ly, lz, hx, hy, hz) &&
+               (!use_slab || slab.meets(lx, ly, lz, hx, hy, hz));
     }
     /// meets() for K boxes at once, one per lane (structure of arrays of box corners relative
     /// to nothing: absolute coordinates). Returns the lanes whose box may meet the region.
@@ -205,8 +209,9 @@ struct ShaftRegion {
         vbool<K> in(true);
         const auto plane = [&](const PlaneSet& p, int l) {
             const float nx = p.nx[l], ny = p.ny[l], nz = p.nz[l];
-            const vf best = (max(vf(nx) * dlo[0], vf(nx) * dhi[0]) + max(vf(ny) * dlo[1], vf(ny) * dhi[1])) +
-                            max(vf(nz) * dlo[2], vf(nz) * dhi[2]);
+            const vf best =
+                (max(vf(nx) * dlo[0], vf(nx) * dhi[0]) + max(vf(ny) * dlo[1], vf(ny) * dhi[1])) +
+                max(vf(nz) * dlo[2], vf(nz) * dhi[2]);
             in &= best >= vf(p.limit[l]);
         };
         for (int l = 0; l < 4; ++l) plane(cone, l);
@@ -218,7 +223,8 @@ struct ShaftRegion {
 private:
     vfloat4 tolerance(const PlaneSet& p) const {
         using vf = vfloat4;
-        return vf(0x1p-18f) * ((abs(p.nx) * vf(extent_.x) + abs(p.ny) * vf(extent_.y)) + abs(p.nz) * vf(extent_.z));
+        return vf(0x1p-18f) * ((abs(p.nx) * vf(extent_.x) + abs(p.ny) * vf(extent_.y)) +
+                               abs(p.nz) * vf(extent_.z));
     }
     void load_slab() {
         alignas(16) float nx[4], ny[4], nz[4];
@@ -233,14 +239,14 @@ private:
         slab.limit = vfloat4::load(c_) - tolerance(slab);
     }
     Vec3f extent_;
-    float n_[4][3] = {};                                  // unused lanes: n = 0,
+    float n_[4][3] = {};                               // unused lanes: n = 0,
     alignas(16) float c_[4] = {0.f, 0.f, -1.f, -1.f};  // c = -1: never separating
 };
 
 /// One triangle against the 4 corners.
 struct CornerVerdict {
-    uint32_t hit = 0;  ///< Lanes whose watertight test hits within [tmin, lane tmax].
-    vfloat4 t;         ///< Their hit distances (other lanes: unspecified).
+    uint32_t hit = 0;         ///< Lanes whose watertight test hits within [tmin, lane tmax].
+    vfloat4 t;                ///< Their hit distances (other lanes: unspecified).
     bool relevant = true;     ///< False: no checked ray of the shaft can hit the triangle.
     bool blocks_all = false;  ///< Every checked ray hits it within its interval.
     float min_offset = 0.f;   ///< Smallest kz offset of the vertices (see the file comment).
@@ -250,10 +256,12 @@ struct CornerVerdict {
 /// [tmin, lane_tmax]) and the five conservative tests, sharing the sheared coordinates.
 /// WantBlocker: also decide blocks_all (shadows).
 template <bool WantBlocker>
-RTT_FORCEINLINE CornerVerdict test_corners(const Shaft& s, const TriangleVerts& tri, vfloat4 lane_tmax) {
+RTT_FORCEINLINE CornerVerdict test_corners(const Shaft& s, const TriangleVerts& tri,
+                                           vfloat4 lane_tmax) {
     using vf = vfloat4;
     constexpr float u = 0x1p-24f;
-    const Vec3f a3 = tri.v0 - s.org, b3 = tri.v1 - s.org, c3 = tri.v2 - s.org;  // as the scalar test
+    const Vec3f a3 = tri.v0 - s.org, b3 = tri.v1 - s.org,
+                c3 = tri.v2 - s.org;  // as the scalar test
     const float akx = a3[s.kx], aky = a3[s.ky], akz = a3[s.kz];
     const float bkx = b3[s.kx], bky = b3[s.ky], bkz = b3[s.kz];
     const float ckx = c3[s.kx], cky = c3[s.ky], ckz = c3[s.kz];
@@ -311,14 +319,16 @@ RTT_FORCEINLINE CornerVerdict test_corners(const Shaft& s, const TriangleVerts& 
     const bool any_neg = u_neg == 0xF || v_neg == 0xF || w_neg == 0xF;
     const bool any_pos = u_pos == 0xF || v_pos == 0xF || w_pos == 0xF;
     // det = (U + V) + W rounds by at most 2u (|U| + |V| + |W|).
-    const vf det_margin = vf((MU + MV + MW) * fudge) + vf(2.f * u * fudge) * ((abs(U) + abs(V)) + abs(W));
+    const vf det_margin =
+        vf((MU + MV + MW) * fudge) + vf(2.f * u * fudge) * ((abs(U) + abs(V)) + abs(W));
     const bool det_pos = movemask(det > det_margin) == 0xF;
     const bool det_neg = movemask(det < -det_margin) == 0xF;
 
-    const bool before_start = max_o < 0.f || max_o * (1.f + 16.f * u) < s.start_lo * (1.f - 4.f * u);
+    const bool before_start =
+        max_o < 0.f || max_o * (1.f + 16.f * u) < s.start_lo * (1.f - 4.f * u);
     const bool beyond_end = min_o * (1.f - 16.f * u) > s.end_hi * (1.f + 4.f * u);
-    out.relevant = out.hit || !((any_neg && any_pos) || (det_pos && any_neg) || (det_neg && any_pos) ||
-                                before_start || beyond_end);
+    out.relevant = out.hit || !((any_neg && any_pos) || (det_pos && any_neg) ||
+                                (det_neg && any_pos) || before_start || beyond_end);
     const bool inside = (u_pos == 0xF && v_pos == 0xF && w_pos == 0xF) ||
                         (u_neg == 0xF && v_neg == 0xF && w_neg == 0xF);
     out.blocks_all = inside && min_o * (1.f - 16.f * u) > s.start_hi * (1.f + 4.f * u) &&

@@ -41,7 +41,7 @@ SplitChoice find_split(const NodeEvents& ev, const Bbox3f& box, const KdBuildCon
                 if ((double(p) == hi && cl == n) || (double(p) == lo && cr == n)) return;
                 double cost = trav + isect * (pl * double(cl) + pr * double(cr));
                 if (cl == 0 || cr == 0) cost *= bonus_factor;
-                if (cost < best.cost) best = {a, p, planar_left, cost};
+                if (cost < best.cost) best = {a, p, planar_left, cost, cl, cr};
             };
             consider(n_left + planar, n_right, true);
             if (planar > 0) consider(n_left, n_right + planar, false);

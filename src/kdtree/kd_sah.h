@@ -11,6 +11,8 @@ struct SplitChoice {
     float pos = 0.f;
     bool planar_left = false;   ///< Side of the triangles lying in the split plane (pside).
     double cost = pos_inf;      ///< SAH cost relative to a ray that hits the node.
+    size_t left_count = 0;      ///< Triangles the cost counts in the below child (before
+    size_t right_count = 0;     ///< clipping, so at least what the children will hold).
 };
 
 /// Cheapest split of the node with bounds `box` and events `ev` (Wald & Havran 2006,

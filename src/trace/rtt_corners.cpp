@@ -21,9 +21,9 @@ struct alignas(16) CornerStackEntry {
 }  // namespace
 
 template <bool AnyHit>
-CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> triangles, const Shaft& shaft,
-                           const ShaftRegion* region, const Ray (&corners)[4], TriangleMailbox& mailbox,
-                           CornerResult& out) {
+CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> triangles,
+                           const Shaft& shaft, const ShaftRegion* region, const Ray (&corners)[4],
+                           TriangleMailbox& mailbox, CornerResult& out) {
     out.list.count = 0;
     out.deferred.count = 0;
     out.occluded = 0;
@@ -44,13 +44,16 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
     vb zero_dir[3];
     for (int a = 0; a < 3; ++a) {
         const uint32_t bits = signbits(dir[a]);
-        if (bits != 0 && bits != 0xF) return CornerStatus::untraced;  // lanes order children differently
+        if (bits != 0 && bits != 0xF)
+            return CornerStatus::untraced;  // lanes order children differently
         above_first[a] = bits != 0;
         zero_dir[a] = dir[a] == vf(0.f);
     }
-    const float behind_margin = 0x1p-18f * 3.f * std::max({std::fabs(tree.bounds.lo.x - org.x), std::fabs(tree.bounds.hi.x - org.x),
-                                                           std::fabs(tree.bounds.lo.y - org.y), std::fabs(tree.bounds.hi.y - org.y),
-                                                           std::fabs(tree.bounds.lo.z - org.z), std::fabs(tree.bounds.hi.z - org.z)});
+    const float behind_margin =
+        0x1p-18f * 3.f *
+        std::max({std::fabs(tree.bounds.lo.x - org.x), std::fabs(tree.bounds.hi.x - org.x),
+                  std::fabs(tree.bounds.lo.y - org.y), std::fabs(tree.bounds.hi.y - org.y),
+                  std::fabs(tree.bounds.lo.z - org.z), std::fabs(tree.bounds.hi.z - org.z)});
     // trace_ray's clip to the padded root box (a NaN slab distance never shrinks the interval)
     // and its scene_t_scale per lane (the origin is common, only max|dir| differs).
     const Bbox3f padded = padded_bounds(tree.bounds);
@@ -144,7 +147,8 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
             const vf second_lo = max(ds - m, ta);  // std::max(ta, d - m)
             const uint32_t go_first = movemask(ta <= first_hi) & lanes;
             const uint32_t go_second = movemask(second_lo <= tb) & lanes;
-            if ((go_first && go_first != lanes) || (go_second && go_second != lanes)) out.coherent = false;
+            if ((go_first && go_first != lanes) || (go_second && go_second != lanes))
+                out.coherent = false;
             // Children boxes: the box cut at the split (each closed).
             BoxV below_box = box, above_box = box;
             below_box.hi = select(axis_lane[axis], vf(n.split), box.hi);
@@ -195,6 +199,10 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
                     out.occluded = 0xF;
                     return CornerStatus::blocked;
                 }
+                // All 4 corners blocked, by different triangles: the tile is most likely in
+                // shadow, and tracing its segments (which stop at their first blocker) is
+                // cheaper than the rest of the list. The corners are answered.
+                if (out.occluded == 0xF) return CornerStatus::overflow;
             } else if (v.hit) {
                 const vb take = best.update(vb::from_bits(v.hit), v.t, id);
                 lane_tmax = select(take, v.t, lane_tmax);  // inclusive, as trace_ray
@@ -214,9 +222,11 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
     return listing ? CornerStatus::traced : CornerStatus::overflow;
 }
 
-template CornerStatus trace_corners<false>(const KdTree&, std::span<const TriangleVerts>, const Shaft&,
-                                           const ShaftRegion*, const Ray (&)[4], TriangleMailbox&, CornerResult&);
-template CornerStatus trace_corners<true>(const KdTree&, std::span<const TriangleVerts>, const Shaft&,
-                                          const ShaftRegion*, const Ray (&)[4], TriangleMailbox&, CornerResult&);
+template CornerStatus trace_corners<false>(const KdTree&, std::span<const TriangleVerts>,
+                                           const Shaft&, const ShaftRegion*, const Ray (&)[4],
+                                           TriangleMailbox&, CornerResult&);
+template CornerStatus trace_corners<true>(const KdTree&, std::span<const TriangleVerts>,
+                                          const Shaft&, const ShaftRegion*, const Ray (&)[4],
+                                          TriangleMailbox&, CornerResult&);
 
 }  // namespace rtt

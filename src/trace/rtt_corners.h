@@ -30,6 +30,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <iterator>
 #include <span>
 #include <vector>
 
@@ -50,31 +51,42 @@ struct RelevantList {
     float min_offset[rtt_max_relevant];  ///< CornerVerdict::min_offset of each entry.
 };
 
-/// Marks triangles already tested in the current tile (a triangle can sit in several leaves).
-/// One per thread; a stamp per tile avoids clearing.
+/// Marks triangles already tested in the current tile (a triangle can sit in several leaves):
+/// a small open-addressing hash set that stays in L1 (a tile meets tens of triangles, not a
+/// per-scene array touched at random), cleared per tile by a stamp. When it fills up, further
+/// triangles are reported unseen: they are tested again (harmless) and may repeat in the list.
 class TriangleMailbox {
 public:
-    /// Starts a new tile over a scene of `triangle_count` triangles.
-    void begin(size_t triangle_count) {
-        if (marks_.size() != triangle_count) {
-            marks_.assign(triangle_count, 0);
-            stamp_ = 0;
-        }
+    /// Starts a new tile.
+    void begin(size_t /*triangle_count*/) {
         if (++stamp_ == 0) {
-            std::fill(marks_.begin(), marks_.end(), 0u);
+            std::fill(std::begin(stamps_), std::end(stamps_), 0u);
             stamp_ = 1;
         }
+        used_ = 0;
     }
     /// True when `id` was already seen in this tile; marks it seen.
     bool seen(uint32_t id) {
-        if (marks_[id] == stamp_) return true;
-        marks_[id] = stamp_;
-        return false;
+        uint32_t slot = (id * 2654435761u) >> (32 - bits);
+        for (;; slot = (slot + 1) & (size - 1)) {
+            if (stamps_[slot] != stamp_) {
+                if (used_ == size * 3 / 4) return false;
+                stamps_[slot] = stamp_;
+                ids_[slot] = id;
+                ++used_;
+                return false;
+            }
+            if (ids_[slot] == id) return true;
+        }
     }
 
 private:
-    std::vector<uint32_t> marks_;
+    static constexpr int bits = 9;
+    static constexpr uint32_t size = 1u << bits;
+    uint32_t stamps_[size] = {};
+    uint32_t ids_[size];
     uint32_t stamp_ = 0;
+    uint32_t used_ = 0;
 };
 
 struct DeferredNode {
@@ -94,14 +106,15 @@ enum class CornerStatus {
     untraced,  ///< Corners not traced: direction signs differ (no common traversal order).
     traced,    ///< Corners answered; `list` and `deferred` describe what they reached.
     blocked,   ///< Shadows: `blocker` provably blocks every accepted segment of the tile.
-    overflow,  ///< Corners answered, but the list or the deferred nodes overflowed: no RTT.
+    overflow,  ///< Corners answered, but no list: it or the deferred nodes overflowed, or
+               ///< (any-hit) all 4 corners are blocked by different triangles.
 };
 
 struct CornerResult {
     Hit hit[4];             ///< Closest-hit mode: each corner's closest hit (trace_ray's answer).
     uint32_t occluded = 0;  ///< Any-hit mode: corners whose segment is blocked.
     uint32_t blocker = invalid_triangle;
-    bool coherent = true;   ///< The paper's flag was never raised.
+    bool coherent = true;  ///< The paper's flag was never raised.
     RelevantList list;
     DeferredNodes deferred;
 };
@@ -114,9 +127,9 @@ struct CornerResult {
 /// Nodes no lane enters are deferred (AnyHit: only when their box meets `*region`, which must
 /// hold every point of every segment answered from the list; unused for closest hits).
 template <bool AnyHit>
-CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> triangles, const Shaft& shaft,
-                           const ShaftRegion* region, const Ray (&corners)[4], TriangleMailbox& mailbox,
-                           CornerResult& out);
+CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> triangles,
+                           const Shaft& shaft, const ShaftRegion* region, const Ray (&corners)[4],
+                           TriangleMailbox& mailbox, CornerResult& out);
 
 /// Completes the list of a `traced` result by shaft culling of its deferred nodes against
 /// `region`, which must hold every point of every ray answered from the list. Returns `traced`
@@ -124,7 +137,8 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
 /// `overflow` (the list overflowed, or more than `budget` nodes had to be entered: a tile so
 /// incoherent that tracing its rays is cheaper).
 template <bool AnyHit>
-CornerStatus collect_deferred(const KdTree& tree, std::span<const TriangleVerts> triangles, const Shaft& shaft,
-                              const ShaftRegion& region, int budget, TriangleMailbox& mailbox, CornerResult& out);
+CornerStatus collect_deferred(const KdTree& tree, std::span<const TriangleVerts> triangles,
+                              const Shaft& shaft, const ShaftRegion& region, int budget,
+                              TriangleMailbox& mailbox, CornerResult& out);
 
 }  // namespace rtt

@@ -8,8 +8,9 @@
 namespace rtt {
 
 template <bool AnyHit>
-CornerStatus collect_deferred(const KdTree& tree, std::span<const TriangleVerts> triangles, const Shaft& shaft,
-                              const ShaftRegion& region, int budget, TriangleMailbox& mailbox, CornerResult& out) {
+CornerStatus collect_deferred(const KdTree& tree, std::span<const TriangleVerts> triangles,
+                              const Shaft& shaft, const ShaftRegion& region, int budget,
+                              TriangleMailbox& mailbox, CornerResult& out) {
     const vfloat4 lane_tmax = vfloat4::load(shaft.tmax);
     const vbool4 lane_of[3] = {vbool4::from_bits(1), vbool4::from_bits(2), vbool4::from_bits(4)};
     DeferredNode stack[kd_max_depth + 1];
@@ -27,7 +28,8 @@ CornerStatus collect_deferred(const KdTree& tree, std::span<const TriangleVerts>
             hi[a] = vf::load(d.hi[a] + base);
         }
         const int in_batch = std::min(K, d.count - base);
-        uint32_t survivors = movemask(region.meets<K>(lo, hi)) & (in_batch == 32 ? ~0u : (1u << in_batch) - 1u);
+        uint32_t survivors =
+            movemask(region.meets<K>(lo, hi)) & (in_batch == 32 ? ~0u : (1u << in_batch) - 1u);
         for (; survivors; survivors &= survivors - 1) {
             const int i = base + std::countr_zero(survivors);
             int top = 0;
@@ -66,8 +68,10 @@ CornerStatus collect_deferred(const KdTree& tree, std::span<const TriangleVerts>
                         // ray (PlaneSet's tolerance covers the float test's fuzz).
                         const TriangleVerts& tri = triangles[id];
                         BoxV tb;
-                        tb.lo = min(min(BoxV::lanes(tri.v0), BoxV::lanes(tri.v1)), BoxV::lanes(tri.v2));
-                        tb.hi = max(max(BoxV::lanes(tri.v0), BoxV::lanes(tri.v1)), BoxV::lanes(tri.v2));
+                        tb.lo =
+                            min(min(BoxV::lanes(tri.v0), BoxV::lanes(tri.v1)), BoxV::lanes(tri.v2));
+                        tb.hi =
+                            max(max(BoxV::lanes(tri.v0), BoxV::lanes(tri.v1)), BoxV::lanes(tri.v2));
                         if (!region.meets(tb)) continue;
                         const CornerVerdict v = test_corners<AnyHit>(shaft, tri, lane_tmax);
                         if constexpr (AnyHit) {
@@ -90,9 +94,11 @@ CornerStatus collect_deferred(const KdTree& tree, std::span<const TriangleVerts>
     return CornerStatus::traced;
 }
 
-template CornerStatus collect_deferred<false>(const KdTree&, std::span<const TriangleVerts>, const Shaft&,
-                                              const ShaftRegion&, int, TriangleMailbox&, CornerResult&);
-template CornerStatus collect_deferred<true>(const KdTree&, std::span<const TriangleVerts>, const Shaft&,
-                                             const ShaftRegion&, int, TriangleMailbox&, CornerResult&);
+template CornerStatus collect_deferred<false>(const KdTree&, std::span<const TriangleVerts>,
+                                              const Shaft&, const ShaftRegion&, int,
+                                              TriangleMailbox&, CornerResult&);
+template CornerStatus collect_deferred<true>(const KdTree&, std::span<const TriangleVerts>,
+                                             const Shaft&, const ShaftRegion&, int,
+                                             TriangleMailbox&, CornerResult&);
 
 }  // namespace rtt

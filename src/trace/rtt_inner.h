@@ -46,14 +46,19 @@ struct alignas(64) InnerBatch {
         }
         return count == 32 ? ~0u : (1u << count) - 1u;
     }
-    Vec3v<K> origin() const { return {vfloat<K>::load(org[0]), vfloat<K>::load(org[1]), vfloat<K>::load(org[2])}; }
-    Vec3v<K> direction() const { return {vfloat<K>::load(dir[0]), vfloat<K>::load(dir[1]), vfloat<K>::load(dir[2])}; }
+    Vec3v<K> origin() const {
+        return {vfloat<K>::load(org[0]), vfloat<K>::load(org[1]), vfloat<K>::load(org[2])};
+    }
+    Vec3v<K> direction() const {
+        return {vfloat<K>::load(dir[0]), vfloat<K>::load(dir[1]), vfloat<K>::load(dir[2])};
+    }
 };
 
 /// shaft_accepts() for K rays at once, on the constants of `wp` (built from the same rays):
 /// the same comparisons on the same float values, lane by lane.
 template <int K>
-RTT_FORCEINLINE vbool<K> shaft_accepts(const Shaft& s, const InnerBatch<K>& b, const WatertightPacket<K>& wp) {
+RTT_FORCEINLINE vbool<K> shaft_accepts(const Shaft& s, const InnerBatch<K>& b,
+                                       const WatertightPacket<K>& wp) {
     using vf = vfloat<K>;
     using vi = vint<K>;
     const Vec3v<K> org = b.origin();
@@ -61,10 +66,12 @@ RTT_FORCEINLINE vbool<K> shaft_accepts(const Shaft& s, const InnerBatch<K>& b, c
                   (as_int(org.y) == vi(std::bit_cast<int32_t>(s.org.y))) &
                   (as_int(org.z) == vi(std::bit_cast<int32_t>(s.org.z)));
     ok &= (wp.kx == vi(s.kx)) & (wp.ky == vi(s.ky)) & (wp.kz == vi(s.kz));
-    for (int m = 0; m < 4; ++m) ok &= vf(s.edge_nx[m]) * wp.sx + vf(s.edge_ny[m]) * wp.sy >= vf(s.edge_c[m]);
+    for (int m = 0; m < 4; ++m)
+        ok &= vf(s.edge_nx[m]) * wp.sx + vf(s.edge_ny[m]) * wp.sy >= vf(s.edge_c[m]);
     const vf dz = abs(vf::load(b.dir[s.kz]));
     const vf so = vf::load(b.tmin) * dz, eo = vf::load(b.tmax) * dz;
-    ok &= (so >= vf(s.start_lo)) & (so <= vf(s.start_hi)) & (eo >= vf(s.end_lo)) & (eo <= vf(s.end_hi));
+    ok &= (so >= vf(s.start_lo)) & (so <= vf(s.start_hi)) & (eo >= vf(s.end_lo)) &
+          (eo <= vf(s.end_hi));
     return ok;
 }
 
@@ -78,7 +85,8 @@ RTT_FORCEINLINE WatertightPacket<K> watertight(const InnerBatch<K>& b, uint32_t 
 
 /// Closest hits of the lanes `ok` over the list (closer(): smaller t, then smaller index).
 template <int K>
-RTT_FORCEINLINE PacketHit<K> closest_in_list(const WatertightPacket<K>& wp, vbool<K> ok, const RelevantList& list,
+RTT_FORCEINLINE PacketHit<K> closest_in_list(const WatertightPacket<K>& wp, vbool<K> ok,
+                                             const RelevantList& list,
                                              std::span<const TriangleVerts> triangles) {
     PacketHit<K> best;
     for (int j = 0; j < list.count; ++j) {
@@ -92,7 +100,8 @@ RTT_FORCEINLINE PacketHit<K> closest_in_list(const WatertightPacket<K>& wp, vboo
 
 /// Lanes of `ok` that some triangle of the list blocks.
 template <int K>
-RTT_FORCEINLINE vbool<K> occluded_by_list(const WatertightPacket<K>& wp, vbool<K> ok, const RelevantList& list,
+RTT_FORCEINLINE vbool<K> occluded_by_list(const WatertightPacket<K>& wp, vbool<K> ok,
+                                          const RelevantList& list,
                                           std::span<const TriangleVerts> triangles) {
     vbool<K> blocked(false);
     for (int j = 0; j < list.count && any(ok); ++j) {

@@ -31,20 +31,23 @@ struct SampleBits {
 
 /// The corner rays of a tile (corner_sample order) and their sample indices.
 inline auto corners_of(const RayTile& tile, Ray (&corners)[4], int (&cs)[4]) -> const Ray (&)[4] {
-    for (int i = 0; i < 4; ++i) corners[i] = tile.rays[cs[i] = corner_sample(tile.width, tile.height, i)];
+    for (int i = 0; i < 4; ++i)
+        corners[i] = tile.rays[cs[i] = corner_sample(tile.width, tile.height, i)];
     return corners;
 }
-inline auto corners_of(const SegmentTile& tile, Ray (&corners)[4], int (&cs)[4]) -> const Ray (&)[4] {
+inline auto corners_of(const SegmentTile& tile, Ray (&corners)[4], int (&cs)[4]) -> const
+    Ray (&)[4] {
     for (int i = 0; i < 4; ++i)
-        corners[i] = shadow_ray(tile.light, tile.points[cs[i] = corner_sample(tile.width, tile.height, i)]);
+        corners[i] =
+            shadow_ray(tile.light, tile.points[cs[i] = corner_sample(tile.width, tile.height, i)]);
     return corners;
 }
 
 /// Calls run(active lanes, sample per lane) for each packet-shaped block of the tile holding
 /// samples marked in `need`, after stage(lane, sample) filled the packet's lanes.
 template <int FK, typename Stage, typename Run>
-void for_each_needed_block(int width, int height, const SampleBits& need, RayPacket<FK>& packet, Stage&& stage,
-                           Run&& run) {
+void for_each_needed_block(int width, int height, const SampleBits& need, RayPacket<FK>& packet,
+                           Stage&& stage, Run&& run) {
     constexpr int pw = packet_width<FK>, ph = packet_height<FK>;
     int sample[FK];
     for (int y0 = 0; y0 < height; y0 += ph)
@@ -61,7 +64,8 @@ void for_each_needed_block(int width, int height, const SampleBits& need, RayPac
                 }
             if (!active) continue;
             const int donor = std::countr_zero(active);
-            for (uint32_t b = ~active & all_lanes<FK>; b; b &= b - 1) packet.set(std::countr_zero(b), packet.get(donor));
+            for (uint32_t b = ~active & all_lanes<FK>; b; b &= b - 1)
+                packet.set(std::countr_zero(b), packet.get(donor));
             run(active, sample);
         }
 }
@@ -81,9 +85,13 @@ public:
         normals_.reserve(planes.representative.size());
         for (const uint32_t r : planes.representative) {
             const TriangleVerts& t = triangles[r];
-            const double e1[3] = {double(t.v1.x) - t.v0.x, double(t.v1.y) - t.v0.y, double(t.v1.z) - t.v0.z};
-            const double e2[3] = {double(t.v2.x) - t.v0.x, double(t.v2.y) - t.v0.y, double(t.v2.z) - t.v0.z};
-            Normal n{{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]}, t.v0};
+            const double e1[3] = {double(t.v1.x) - t.v0.x, double(t.v1.y) - t.v0.y,
+                                  double(t.v1.z) - t.v0.z};
+            const double e2[3] = {double(t.v2.x) - t.v0.x, double(t.v2.y) - t.v0.y,
+                                  double(t.v2.z) - t.v0.z};
+            Normal n{{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                      e1[0] * e2[1] - e1[1] * e2[0]},
+                     t.v0};
             const double len = std::sqrt(n.n[0] * n.n[0] + n.n[1] * n.n[1] + n.n[2] * n.n[2]);
             for (double& c : n.n) c /= len;
             normals_.push_back(n);

@@ -1,0 +1,160 @@
+// The RTT tracer's shadow segments (trace_rtt.h).
+#include <bit>
+#include <cmath>
+
+#include "trace/rtt_inner.h"
+#include "trace/rtt_tracer.h"
+#include "trace/trace_packet.h"
+
+namespace rtt::rtt_detail {
+
+// ---- shadow segments ----------------------------------------------------------------------
+
+/// The paper's condition for a shadow shaft: every sample landed on a triangle of one plane
+/// (exact plane identity), and the light is not on that plane (exact orientation).
+bool RttTracer::one_receiver_plane(const SegmentTile& tile) const {
+    const uint32_t t0 = tile.triangles[0];
+    if (t0 >= triangles_.size()) return false;
+    const uint32_t pid = planes_.id[t0];
+    if (pid == no_plane) return false;
+    for (const uint32_t t : tile.triangles)
+        if (t >= triangles_.size() || planes_.id[t] != pid) return false;
+    const TriangleVerts& r = triangles_[planes_.representative[pid]];
+    return orient3d_sign(r.v0, r.v1, r.v2, tile.light) != 0;
+}
+
+void RttTracer::occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
+                         std::span<SampleAnswer> answers) const {
+    const int n = int(tile.points.size());
+    uint64_t active_count = 0;
+    for (int i = 0; i < n; ++i) active_count += tile.active[i] != 0;
+    TraceStats st;
+    for (SampleAnswer& a : answers) a = SampleAnswer::traced;
+    for (uint8_t& v : visible) v = 0;
+    if (active_count == 0) {
+    } else if (!shaft_tile(tile.shaft, tile.width, tile.height, tile.points.size())) {
+        occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
+    } else {
+        occluded_shaft(tile, visible, answers, st, 0);
+    }
+    if (st.rtt_tiles > 1) {  // as intersect()
+        st.relevant_sum = (st.relevant_sum + st.rtt_tiles / 2) / st.rtt_tiles;
+        st.rtt_tiles = 1;
+    }
+    st.tiles = 1;
+    st.rays = active_count;
+    st.traced = active_count - st.answered;
+    if (stats) *stats += st;
+}
+
+void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visible,
+                               std::span<SampleAnswer> answers, TraceStats& st, int depth) const {
+    const int n = int(tile.points.size());
+    Ray corners[4];
+    int cs[4];
+    Shaft shaft;
+    // The region of the answered segments: the shaft between the start and end offsets, and
+    // on the light's side of the receiver plane. A segment L + t w, t <= tmax, of a point within
+    // receiver_tol of the plane (checked per point: n.w + H >= -receiver_tol) has
+    // n . (x - L) = t n.w >= -tmax (H + receiver_tol).
+    FacingPlane receiver;
+    if (!one_receiver_plane(tile) ||
+        !normals_.facing(planes_.id[tile.triangles[0]], tile.light, receiver) ||
+        !make_shaft(corners_of(tile, corners, cs), shaft)) {
+        if (!split_shadows(tile, visible, answers, st, depth))
+            occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
+        return;
+    }
+    const float tmax = corners[0].tmax;
+    const float receiver_tol = (1.f - tmax) * receiver.h * 0.25f;
+    ShaftRegion region(shaft, tree_.bounds, shaft.start_lo, shaft.end_hi);
+    region.add_end_plane(receiver.n, -tmax * (receiver.h + receiver_tol) * (1.f + 0x1p-20f));
+    CornerResult& res = tls_corners;
+    CornerStatus status =
+        trace_corners<true>(tree_, triangles_, shaft, &region, corners, tls_mailbox, res);
+    if (status == CornerStatus::untraced) {
+        RayPacket<4> p;
+        for (int i = 0; i < 4; ++i) p.set(i, corners[i]);
+        res.occluded = occluded_packet<4>(tree_, triangles_, p, 0xF);
+    }
+    for (int i = 0; i < 4; ++i)
+        if (tile.active[cs[i]]) visible[cs[i]] = !((res.occluded >> i) & 1u);
+    if (status == CornerStatus::traced && (extended_ || res.coherent))
+        status = collect_deferred<true>(tree_, triangles_, shaft, region, deferred_budget(n),
+                                        tls_mailbox, res);
+    SampleBits need(n);
+    if ((status == CornerStatus::traced && (extended_ || res.coherent)) ||
+        status == CornerStatus::blocked) {
+        const bool blocked = status == CornerStatus::blocked;
+        st.answered += answer_shadows(tile, shaft, res.list, blocked, receiver, receiver_tol,
+                                      visible, answers, need);
+        st.rtt_tiles += 1;
+        st.relevant_sum += blocked ? 1 : uint64_t(res.list.count);
+    } else {
+        if (split_shadows(tile, visible, answers, st, depth)) return;
+        for (int i = 0; i < n; ++i)
+            if (tile.active[i] && i != cs[0] && i != cs[1] && i != cs[2] && i != cs[3]) need.set(i);
+    }
+    RayPacket<fallback_width> packet;
+    for_each_needed_block<fallback_width>(
+        tile.width, tile.height, need, packet,
+        [&](int lane, int s) { packet.set(lane, shadow_ray(tile.light, tile.points[s])); },
+        [&](uint32_t active, const int* sample) {
+            const uint32_t occ = occluded_packet<fallback_width>(tree_, triangles_, packet, active);
+            for (uint32_t b = active; b; b &= b - 1) {
+                const int lane = std::countr_zero(b);
+                visible[sample[lane]] = !((occ >> lane) & 1u);
+            }
+        });
+}
+
+uint64_t RttTracer::answer_shadows(const SegmentTile& tile, const Shaft& s,
+                                   const RelevantList& list, bool blocked,
+                                   const FacingPlane& receiver, float receiver_tol,
+                                   std::span<uint8_t> visible, std::span<SampleAnswer> answers,
+                                   SampleBits& need) const {
+    constexpr int K = inner_width;
+    using vf = vfloat<K>;
+    const int n = int(tile.points.size());
+    const int c1 = tile.width - 1, c2 = (tile.height - 1) * tile.width, c3 = n - 1;
+    const SampleAnswer how =
+        blocked || list.count > 0 ? SampleAnswer::answered_list : SampleAnswer::answered_empty;
+    uint64_t answered = 0;
+    InnerBatch<K> b;
+    const auto flush = [&] {
+        const uint32_t used = b.seal();
+        const WatertightPacket<K> wp = watertight<K>(b, used);
+        vbool<K> ok = shaft_accepts<K>(s, b, wp) & vbool<K>::from_bits(used);
+        // The point on the light's side of the receiver plane or within receiver_tol beyond
+        // it: v = n.w + H (w = p - L as the segment has it), with its rounding.
+        const Vec3v<K> w = b.direction();
+        const vf nx = vf(receiver.n.x) * w.x, ny = vf(receiver.n.y) * w.y,
+                 nz = vf(receiver.n.z) * w.z;
+        const vf v = ((nx + ny) + nz) + vf(receiver.h);
+        const vf err = vf(8.f * unit_roundoff) * (((abs(nx) + abs(ny)) + abs(nz)) + vf(receiver.h));
+        ok &= v - err >= vf(-receiver_tol);
+        vbool<K> occ = vbool<K>(blocked);
+        if (!blocked && list.count > 0) occ = occluded_by_list<K>(wp, ok, list, triangles_);
+        const uint32_t good = movemask(ok), occ_bits = movemask(occ);
+        for (int l = 0; l < b.count; ++l) {
+            const int smp = b.sample[l];
+            if ((good >> l) & 1u) {
+                visible[smp] = !((occ_bits >> l) & 1u);
+                if (!answers.empty()) answers[smp] = how;
+                ++answered;
+            } else {
+                need.set(smp);
+            }
+        }
+        b.count = 0;
+    };
+    for (int i = 1; i < n; ++i) {
+        if (i == c1 || i == c2 || i == c3 || !tile.active[i]) continue;
+        b.add(i, shadow_ray(tile.light, tile.points[i]));
+        if (b.count == K) flush();
+    }
+    if (b.count) flush();
+    return answered;
+}
+
+}  // namespace rtt::rtt_detail

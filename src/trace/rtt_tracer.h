@@ -1,0 +1,93 @@
+// The RTT tracer's class and shared constants (internal to src/trace: trace_rtt.cpp holds the
+// primary and reflected rays, rtt_shadows.cpp the shadow segments, rtt_split.cpp the quadrant
+// shafts of big tiles). Behaviour and statistics are documented in trace_rtt.h.
+#pragma once
+
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "geom/plane_id.h"
+#include "geom/shaft.h"
+#include "rtt/tracer.h"
+#include "simd/simd.h"
+#include "trace/rtt_corners.h"
+#include "trace/rtt_tile.h"
+
+namespace rtt::rtt_detail {
+
+/// Inner rays go K at a time: 16 with AVX-512, 8 with AVX2, else 4.
+inline constexpr int inner_width = simd_max_width;
+/// Packet width of the fallback for rays RTT does not answer: the widest packets, whose
+/// tracer is the fastest (4x4 samples per packet with AVX-512).
+inline constexpr int fallback_width = simd_max_width;
+/// Nodes shaft culling may enter for a tile of n samples before RTT gives the tile up: its
+/// corners missed much of what the shaft crosses, and tracing is cheaper (measured at K = 1).
+inline constexpr int deferred_budget(int n) {
+    return 8 + n;
+}
+inline constexpr float unit_roundoff = 0x1p-24f;
+/// Tiles at least this wide and high are split into quadrants when RTT cannot take them whole
+/// (quadrants of 6 x 6 samples and up still leave 32 inner rays per shaft).
+inline constexpr int split_side = 12;
+inline constexpr int max_split_depth = 0;
+
+/// Per-thread scratch (tracers are called concurrently): the mailbox of the current tile and
+/// the corners' result with its list and deferred nodes (too big for the stack of a tile call).
+inline thread_local TriangleMailbox tls_mailbox;
+inline thread_local CornerResult tls_corners;
+
+class RttTracer final : public Tracer {
+public:
+    /// `extended` ("rtt"): answer tiles whose corners raised the paper's incoherence flag too
+    /// (their list is complete anyway, rtt_corners.h), and primary tiles whose corners hit
+    /// several triangles of one plane. false ("rtt-paper"): the paper's rules, coherent corners
+    /// on one triangle (shadows: coherent corners).
+    RttTracer(const Scene& scene, const KdTree& tree, bool extended)
+        : tree_(tree),
+          triangles_(gather_triangles(scene)),
+          planes_(compute_plane_ids(triangles_)),
+          normals_(triangles_, planes_),
+          extended_(extended) {}
+    std::string_view name() const override { return extended_ ? "rtt" : "rtt-paper"; }
+
+    void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
+                   std::span<SampleAnswer> answers) const override;
+    void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
+                  std::span<SampleAnswer> answers) const override;
+
+private:
+    static bool shaft_tile(bool shaft, int width, int height, size_t n) {
+        return shaft && width >= 2 && height >= 2 && size_t(width) * size_t(height) == n &&
+               n <= size_t(rtt_max_tile_samples);
+    }
+    /// One shaft (the tile, or a quadrant of it at `depth` > 0): answers every ray, adds the
+    /// rays answered from a list, the shafts answered and their list lengths to `st`.
+    void intersect_shaft(const RayTile& tile, std::span<Hit> hits, std::span<SampleAnswer> answers,
+                         TraceStats& st, int depth) const;
+    void occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visible,
+                        std::span<SampleAnswer> answers, TraceStats& st, int depth) const;
+    /// A big tile RTT could not answer as a whole goes as 4 quadrant shafts (their corners are
+    /// samples of the tile): a tile across two planes often has quadrants on one plane each.
+    bool split_primary(const RayTile& tile, std::span<Hit> hits, std::span<SampleAnswer> answers,
+                       TraceStats& st, int depth) const;
+    bool split_shadows(const SegmentTile& tile, std::span<uint8_t> visible,
+                       std::span<SampleAnswer> answers, TraceStats& st, int depth) const;
+    bool one_receiver_plane(const SegmentTile& tile) const;
+    uint64_t answer_primary(const RayTile& tile, const Shaft& s, const RelevantList& list,
+                            float end_limit, const FacingPlane& end, float end_tol,
+                            std::span<Hit> hits, std::span<SampleAnswer> answers,
+                            SampleBits& need) const;
+    uint64_t answer_shadows(const SegmentTile& tile, const Shaft& s, const RelevantList& list,
+                            bool blocked, const FacingPlane& receiver, float receiver_tol,
+                            std::span<uint8_t> visible, std::span<SampleAnswer> answers,
+                            SampleBits& need) const;
+
+    const KdTree& tree_;
+    std::vector<TriangleVerts> triangles_;
+    PlaneIds planes_;
+    PlaneNormals normals_;
+    bool extended_;
+};
+
+}  // namespace rtt::rtt_detail
