@@ -1,8 +1,8 @@
 // libFuzzer target: the values `rtt render` parses from its command line. The first byte picks
 // the parser, the rest is the text:
 //   0  --camera  parse_camera; an accepted camera must give finite unit ray directions that
-//                spread over the image, and every tracer must agree with brute force through it
-//                on a small closed box scene (tests/agreement.h); render() must not misbehave.
+//                spread over the image, every tracer must agree through it on a small closed
+//                box scene (fuzz_trace.h), and render() must not misbehave.
 //   1  --size    parse_size, then RenderOptions::validate with K from the text's length.
 //   2  --light   parse_vec3; an accepted light must be finite, make a valid scene light, and
 //                render the box through it.
@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <string>
 
-#include "agreement.h"
+#include "fuzz_trace.h"
 #include "fuzz_util.h"
 #include "rtt/camera.h"
 #include "rtt/kdtree.h"
@@ -71,13 +71,7 @@ void fuzz_camera(const std::string& text) {
     rtt::differential::AgreementView view;
     view.camera = cam;
     view.lights = {{0.5f, 0.5f, 0.5f}, cam.position};
-    for (const auto& [kind, a] :
-         rtt::differential::compare_tracers(box().scene, box().tree, "brute", view)) {
-        if (a.hit_mismatches == 0 && a.shadow_mismatches == 0) continue;
-        std::fprintf(stderr, "rtt fuzz: tracer '%s' disagrees with brute force: %s\n",
-                     kind.c_str(), a.first_mismatch.c_str());
-        std::abort();
-    }
+    rtt::fuzz::compare_all(box().scene, box().tree, view);
     rtt::Scene lit = box().scene;
     lit.lights.push_back(rtt::make_point_light(cam.position, lit.bounds(), 1));
     const rtt::RenderResult r = render_box(lit, cam);

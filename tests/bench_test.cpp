@@ -2,8 +2,13 @@
 // tracer is checked against the baseline, counts add up, JSON and SVG are well formed.
 // No timing assertions: only that the numbers a benchmark prints are the right ones.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 
 #include "bench/experiments.h"
 #include "bench/machine_info.h"
@@ -234,6 +239,56 @@ TEST(BenchMachine, DescribesTheMachine) {
     EXPECT_GE(m.simd_width, 4);
     EXPECT_FALSE(m.compiler.empty());
     EXPECT_EQ(m.date.size(), std::string("2026-01-01T00:00:00+0000").size());
+}
+
+/// Runs `rtt bench ARGS` in a fresh folder; returns the exit status and that folder.
+int run_bench_cli(const std::string& args, const std::filesystem::path& dir) {
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const std::string cmd = "cd '" + dir.string() + "' && '" + std::string(RTT_CLI_PATH) +
+                            "' bench " + args + " >out.txt 2>err.txt";
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+}
+
+std::string read_file(const std::filesystem::path& path) {
+    std::ifstream in(path);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST(BenchCli, QuickExperimentsOnASceneFileWriteJsonAndPlots) {
+    const std::filesystem::path dir =
+        std::filesystem::temp_directory_path() / ("rtt_bench_cli_" + std::to_string(getpid()));
+    const std::string scene = std::string(RTT_TEST_DATA_DIR) + "/../../scenes/example.json";
+    ASSERT_EQ(run_bench_cli("table1 --quick --scenes '" + scene + "' --json r.json", dir), 0)
+        << read_file(dir / "err.txt");
+    const nlohmann::json j = nlohmann::json::parse(read_file(dir / "r.json"));
+    EXPECT_EQ(j.at("mode"), "quick");
+    const nlohmann::json& m = j.at("experiments").at(0).at("measurements").at(0);
+    EXPECT_EQ(m.at("primary_rays").get<uint64_t>(), 160u * 120u);
+    EXPECT_GT(m.at("shadow_rays").get<uint64_t>(), 0u);
+    EXPECT_EQ(m.at("mismatches").get<uint64_t>(), 0u);
+    EXPECT_NE(read_file(dir / "out.txt").find("speed-up rtt/packet primary"), std::string::npos);
+
+    ASSERT_EQ(run_bench_cli("fig7 --quick --scenes '" + scene + "' --out-dir plots", dir), 0)
+        << read_file(dir / "err.txt");
+    if (has_tracer("rtt")) {
+        const std::string svg = read_file(dir / "plots" / "fig7_antialiasing.svg");
+        EXPECT_EQ(svg.rfind("<svg", 0), 0u);
+    }
+    std::filesystem::remove_all(dir);
+}
+
+TEST(BenchCli, BadInputIsOneLineAndNonZero) {
+    const std::filesystem::path dir =
+        std::filesystem::temp_directory_path() / ("rtt_bench_bad_" + std::to_string(getpid()));
+    EXPECT_EQ(run_bench_cli("table1 --scenes no-such-scene", dir), 1);
+    const std::string err = read_file(dir / "err.txt");
+    EXPECT_NE(err.find("unknown scene 'no-such-scene'"), std::string::npos);
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1);
+    EXPECT_EQ(run_bench_cli("table1 --quick --long", dir), 1);
+    EXPECT_EQ(run_bench_cli("", dir), 2);  // a subcommand is required
+    std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -108,19 +108,16 @@ void add_bench_command(CLI::App& app) {
         "bench", "The paper's experiments (Table 1, Figures 5, 7, 8) and Embree, on the same rays");
     bench->require_subcommand(1);
     bench->footer(
-        "Every tracer answers the same rays: the renderer's 4x4-pixel tiles and, per tile and "
-        "light,\n"
-        "the shadow segments from the packet tracer's hit points. Answers are checked against the\n"
-        "4-wide packet tracer before timing (mismatches printed). Timed: the median of --reps\n"
-        "repetitions after a checking pass, tracers interleaved; 1 thread unless --threads; CPU "
-        "time\n"
-        "of the tracing thread (--clock wall for wall time; several threads always use wall "
-        "time).\n"
-        "Sizes: the paper's, except Figure 7 at 320x240 and Embree's K=4 at 512x384 in the "
-        "default\n"
-        "full mode (`rtt bench all`: about 15 minutes on an idle 2-core machine); --long runs "
-        "those\n"
-        "at 640x480 and 1024x768 too (about an hour); --quick is a 1-2 minute smoke run.");
+        "Every tracer answers the same rays: the renderer's 4x4-pixel tiles and, per tile and\n"
+        "light, the shadow segments from the packet tracer's hit points. Answers are checked\n"
+        "against the 4-wide packet tracer before timing (mismatches printed). Timed: the median\n"
+        "of --reps repetitions after a checking pass, tracers interleaved; 1 thread unless\n"
+        "--threads; CPU time of the tracing thread (--clock wall for wall time; several threads\n"
+        "always use wall time).\n"
+        "Sizes: the paper's, except Figure 7 at 320x240 and Embree's K=4 at 512x384 in the\n"
+        "default full mode (`rtt bench all`: 10-15 minutes on a 2-core machine); --long runs\n"
+        "those at 640x480 and 1024x768 too (about half an hour); --quick is a 1-2 minute smoke\n"
+        "run.");
     bench->add_flag("--quick", args->quick, "Smoke run: tiny images, 1 repetition");
     bench->add_flag("--long", args->long_run,
                     "Every experiment at the paper's / issue's exact size");

@@ -10,8 +10,8 @@
 //           kd-tree and BVH build times.
 // Sizes by mode: --quick keeps every experiment's shape with tiny images and one repetition
 // (a smoke test); the default full mode runs the paper's sizes except where a configuration
-// would not fit in about 15 minutes on a 2-core machine (Figure 7 at 320x240, Embree's K = 4
-// at 512x384), which --long runs too (about an hour).
+// would not fit in 10-15 minutes on a 2-core machine (Figure 7 at 320x240, Embree's K = 4
+// at 512x384), which --long runs too (about half an hour).
 #pragma once
 
 #include <cstdio>

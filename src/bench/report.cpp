@@ -188,7 +188,7 @@ std::vector<std::string> agreement_notes(const std::vector<Measurement>& ms) {
                         format_count(s.shadow) + " of " + format_count(s.shadow_rays) +
                         " shadow answers differ" +
                         (s.exact ? (s.primary + s.shadow == 0 ? " (exact)" : " -- MISMATCHES")
-                                 : " (Embree's own arithmetic: ties broken differently)"));
+                                 : " (Embree: own arithmetic, may break exact ties differently)"));
     return notes;
 }
 

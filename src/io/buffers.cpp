@@ -34,8 +34,12 @@ void write_words(std::FILE* f, std::span<const uint32_t> words) {
     }
 }
 
+/// width * height * spp, or UINT64_MAX when that does not fit in 64 bits (a hostile header must
+/// not wrap around to a small count that some payload matches).
 uint64_t payload_words(uint32_t width, uint32_t height, uint32_t spp) {
-    return uint64_t(width) * uint64_t(height) * uint64_t(spp);
+    const uint64_t pixels = uint64_t(width) * uint64_t(height);  // < 2^64
+    if (spp != 0 && pixels > UINT64_MAX / spp) return UINT64_MAX;
+    return pixels * spp;
 }
 
 void write_buffer(const std::string& path, const char (&magic)[5], std::span<const uint32_t> header,
@@ -76,7 +80,8 @@ public:
         std::fseek(file_.get(), 0, SEEK_END);
         const long end = std::ftell(file_.get());
         std::fseek(file_.get(), here, SEEK_SET);
-        if (here < 0 || end < 0 || uint64_t(end - here) != 4 * count)
+        if (here < 0 || end < here || uint64_t(end - here) % 4 != 0 ||
+            uint64_t(end - here) / 4 != count)  // not 4 * count: it can wrap
             throw Error(path_ + ": payload size does not match the header (expected " +
                         std::to_string(count) + " u32 values)");
         std::vector<uint32_t> out(count);

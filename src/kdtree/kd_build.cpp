@@ -46,6 +46,14 @@ using kd::SplitChoice;
 
 enum Side : uint8_t { both, left_only, right_only };
 
+/// Leaf references the whole tree may hold, per triangle. The SAH alone does not bound them:
+/// n thin triangles along x crossing n along y in one plane make every split cut through one
+/// family, and the SAH keeps splitting down to the depth limit; 2 x 2000 such triangles gave
+/// 11.7 million references and 15.5 million nodes (O(n^2) cells). Ordinary scenes hold 2 to 6
+/// references per triangle in total; a node only splits if its children's references fit its
+/// share of this budget (tests/limits_test.cpp).
+constexpr double reference_budget = 32.0;
+
 /// Nodes with at least this many triangles, above this depth, build their two children in
 /// parallel (2^8 tasks are plenty; each parallel level costs one copy of the above subtree).
 constexpr size_t parallel_min_triangles = 4096;
@@ -83,13 +91,16 @@ public:
     Builder(std::span<const TriangleVerts> triangles, const KdBuildConfig& config, int max_depth)
         : triangles_(triangles), config_(config), max_depth_(max_depth) {}
 
-    /// Builds the subtree of a node (consuming its events) at the end of `out`.
-    void build(NodeEvents&& ev, const Bbox3f& box, int depth, Subtree& out) {
+    /// Builds the subtree of a node (consuming its events) at the end of `out`. `budget` is the
+    /// number of leaf references the subtree may hold (see reference_budget).
+    void build(NodeEvents&& ev, const Bbox3f& box, int depth, double budget, Subtree& out) {
         const size_t n = ev.triangles;
         SplitChoice split;
         if (n > size_t(config_.max_leaf_size) && depth < max_depth_)
             split = kd::find_split(ev, box, config_);
-        if (split.axis < 0 || split.cost >= double(config_.isect_cost) * double(n)) {
+        const double children = double(split.left_count) + double(split.right_count);
+        if (split.axis < 0 || split.cost >= double(config_.isect_cost) * double(n) ||
+            children > budget) {
             make_leaf(ev, out);
             ev = NodeEvents{};  // release now, not when the parent returns
             return;
@@ -100,18 +111,23 @@ public:
         NodeEvents left, right;
         split_events(std::move(ev), split, left_box, right_box, left, right);
 
+        // Each child's share of the budget follows its share of the references, so every node
+        // keeps budget >= its triangle count and the leaves hold at most the root's budget.
+        const double budget_left = budget * double(split.left_count) / children;
+        const double budget_right = budget * double(split.right_count) / children;
         const size_t index = out.nodes.size();
         out.nodes.emplace_back();
         if (n >= parallel_min_triangles && depth < parallel_max_depth) {
             Subtree above;
-            tbb::parallel_invoke([&] { build(std::move(left), left_box, depth + 1, out); },
-                                 [&] { build(std::move(right), right_box, depth + 1, above); });
+            tbb::parallel_invoke(
+                [&] { build(std::move(left), left_box, depth + 1, budget_left, out); },
+                [&] { build(std::move(right), right_box, depth + 1, budget_right, above); });
             set_inner(out, index, split, out.nodes.size());
             out.append(above);
         } else {
-            build(std::move(left), left_box, depth + 1, out);
+            build(std::move(left), left_box, depth + 1, budget_left, out);
             set_inner(out, index, split, out.nodes.size());
-            build(std::move(right), right_box, depth + 1, out);
+            build(std::move(right), right_box, depth + 1, budget_right, out);
         }
     }
 
@@ -275,7 +291,7 @@ KdTree build_kdtree(const Scene& scene, const KdBuildConfig& config) {
     const int max_depth = config.max_depth > 0 ? config.max_depth : auto_max_depth(n);
     Builder builder(triangles, config, max_depth);
     Subtree out;
-    builder.build(std::move(root), tree.bounds, 0, out);
+    builder.build(std::move(root), tree.bounds, 0, reference_budget * double(n), out);
     tree.nodes = std::move(out.nodes);
     tree.leaf_triangles = std::move(out.leaf_triangles);
     const double seconds =

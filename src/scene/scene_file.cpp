@@ -7,6 +7,7 @@
 
 #include "rtt/error.h"
 #include "rtt/scene_io.h"
+#include "scene/assimp_sandbox.h"
 #include "scene/importers.h"
 
 namespace rtt {
@@ -48,7 +49,7 @@ Scene load_mesh_file(const std::string& path) {
     const std::string ext = detail::lower_extension(path);
     Scene scene = ext == "obj"   ? detail::import_obj(path)
                   : ext == "off" ? detail::import_off(path)
-                                 : detail::import_assimp(path);
+                                 : detail::import_assimp_isolated(path);
     validate(scene);
     return scene;
 }

@@ -105,7 +105,9 @@ private:
     void check_keys(const json& j, const std::string& ptr,
                     std::initializer_list<const char*> allowed) const {
         if (!j.is_object()) fail(ptr, "expected an object");
-        for (const auto& [key, value] : j.items()) {
+        for (const auto& item : j.items()) {
+            // Not a structured binding: clang before 16 cannot capture one in the lambda.
+            const std::string& key = item.key();
             if (std::any_of(allowed.begin(), allowed.end(),
                             [&](const char* a) { return key == a; }))
                 continue;

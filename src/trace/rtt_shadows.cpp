@@ -35,11 +35,7 @@ void RttTracer::occluded(const SegmentTile& tile, std::span<uint8_t> visible, Tr
     } else if (!shaft_tile(tile.shaft, tile.width, tile.height, tile.points.size())) {
         occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
     } else {
-        occluded_shaft(tile, visible, answers, st, 0);
-    }
-    if (st.rtt_tiles > 1) {  // as intersect()
-        st.relevant_sum = (st.relevant_sum + st.rtt_tiles / 2) / st.rtt_tiles;
-        st.rtt_tiles = 1;
+        occluded_shaft(tile, visible, answers, st);
     }
     st.tiles = 1;
     st.rays = active_count;
@@ -48,7 +44,7 @@ void RttTracer::occluded(const SegmentTile& tile, std::span<uint8_t> visible, Tr
 }
 
 void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visible,
-                               std::span<SampleAnswer> answers, TraceStats& st, int depth) const {
+                               std::span<SampleAnswer> answers, TraceStats& st) const {
     const int n = int(tile.points.size());
     Ray corners[4];
     int cs[4];
@@ -61,8 +57,7 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
     if (!one_receiver_plane(tile) ||
         !normals_.facing(planes_.id[tile.triangles[0]], tile.light, receiver) ||
         !make_shaft(corners_of(tile, corners, cs), shaft)) {
-        if (!split_shadows(tile, visible, answers, st, depth))
-            occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
+        occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
         return;
     }
     const float tmax = corners[0].tmax;
@@ -91,7 +86,6 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
         st.rtt_tiles += 1;
         st.relevant_sum += blocked ? 1 : uint64_t(res.list.count);
     } else {
-        if (split_shadows(tile, visible, answers, st, depth)) return;
         for (int i = 0; i < n; ++i)
             if (tile.active[i] && i != cs[0] && i != cs[1] && i != cs[2] && i != cs[3]) need.set(i);
     }

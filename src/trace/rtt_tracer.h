@@ -1,6 +1,6 @@
 // The RTT tracer's class and shared constants (internal to src/trace: trace_rtt.cpp holds the
-// primary and reflected rays, rtt_shadows.cpp the shadow segments, rtt_split.cpp the quadrant
-// shafts of big tiles). Behaviour and statistics are documented in trace_rtt.h.
+// primary and reflected rays, rtt_shadows.cpp the shadow segments). Behaviour and statistics are
+// documented in trace_rtt.h.
 #pragma once
 
 #include <span>
@@ -27,10 +27,6 @@ inline constexpr int deferred_budget(int n) {
     return 8 + n;
 }
 inline constexpr float unit_roundoff = 0x1p-24f;
-/// Tiles at least this wide and high are split into quadrants when RTT cannot take them whole
-/// (quadrants of 6 x 6 samples and up still leave 32 inner rays per shaft).
-inline constexpr int split_side = 12;
-inline constexpr int max_split_depth = 0;
 
 /// Per-thread scratch (tracers are called concurrently): the mailbox of the current tile and
 /// the corners' result with its list and deferred nodes (too big for the stack of a tile call).
@@ -61,18 +57,12 @@ private:
         return shaft && width >= 2 && height >= 2 && size_t(width) * size_t(height) == n &&
                n <= size_t(rtt_max_tile_samples);
     }
-    /// One shaft (the tile, or a quadrant of it at `depth` > 0): answers every ray, adds the
-    /// rays answered from a list, the shafts answered and their list lengths to `st`.
+    /// One shaft tile: answers every ray, adds the rays answered from a list, the tile and its
+    /// list length to `st`.
     void intersect_shaft(const RayTile& tile, std::span<Hit> hits, std::span<SampleAnswer> answers,
-                         TraceStats& st, int depth) const;
+                         TraceStats& st) const;
     void occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visible,
-                        std::span<SampleAnswer> answers, TraceStats& st, int depth) const;
-    /// A big tile RTT could not answer as a whole goes as 4 quadrant shafts (their corners are
-    /// samples of the tile): a tile across two planes often has quadrants on one plane each.
-    bool split_primary(const RayTile& tile, std::span<Hit> hits, std::span<SampleAnswer> answers,
-                       TraceStats& st, int depth) const;
-    bool split_shadows(const SegmentTile& tile, std::span<uint8_t> visible,
-                       std::span<SampleAnswer> answers, TraceStats& st, int depth) const;
+                        std::span<SampleAnswer> answers, TraceStats& st) const;
     bool one_receiver_plane(const SegmentTile& tile) const;
     uint64_t answer_primary(const RayTile& tile, const Shaft& s, const RelevantList& list,
                             float end_limit, const FacingPlane& end, float end_tol,

@@ -22,12 +22,7 @@ void RttTracer::intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* 
     if (!shaft_tile(tile.shaft, tile.width, tile.height, tile.rays.size())) {
         trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
     } else {
-        intersect_shaft(tile, hits, answers, st, 0);
-    }
-    // A tile split into quadrant shafts counts once; its list length is the shafts' mean.
-    if (st.rtt_tiles > 1) {
-        st.relevant_sum = (st.relevant_sum + st.rtt_tiles / 2) / st.rtt_tiles;
-        st.rtt_tiles = 1;
+        intersect_shaft(tile, hits, answers, st);
     }
     st.tiles = 1;
     st.rays = uint64_t(n);
@@ -36,14 +31,13 @@ void RttTracer::intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* 
 }
 
 void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
-                                std::span<SampleAnswer> answers, TraceStats& st, int depth) const {
+                                std::span<SampleAnswer> answers, TraceStats& st) const {
     const int n = int(tile.rays.size());
     Ray corners[4];
     int cs[4];
     Shaft shaft;
     if (!make_shaft(corners_of(tile, corners, cs), shaft)) {
-        if (!split_primary(tile, hits, answers, st, depth))
-            trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
+        trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
         return;
     }
     CornerResult& res = tls_corners;
@@ -106,7 +100,6 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         }
     }
     if (!listed) {
-        if (split_primary(tile, hits, answers, st, depth)) return;
         for (int s = 0; s < n; ++s)
             if (s != cs[0] && s != cs[1] && s != cs[2] && s != cs[3]) need.set(s);
     }
