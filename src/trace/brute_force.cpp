@@ -25,6 +25,7 @@ bool occluded_brute_force(std::span<const TriangleVerts> triangles, const Ray& r
 
 // ---- the oracle behind the Tracer interface ("brute"), for tests and tiny scenes ----------
 #include "trace/factories.h"
+#include "trace/traced_tile.h"
 
 namespace rtt {
 namespace {
@@ -37,12 +38,7 @@ public:
     void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
                    std::span<SampleAnswer> answers) const override {
         for (size_t i = 0; i < tile.rays.size(); ++i) hits[i] = trace_brute_force(triangles_, tile.rays[i]);
-        for (SampleAnswer& a : answers) a = SampleAnswer::traced;
-        if (stats) {
-            stats->tiles += 1;
-            stats->rays += tile.rays.size();
-            stats->traced += tile.rays.size();
-        }
+        record_traced_tile(tile.rays.size(), stats, answers);
     }
 
     void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
@@ -54,12 +50,7 @@ public:
             ++n;
             visible[i] = !occluded_brute_force(triangles_, shadow_ray(tile.light, tile.points[i]));
         }
-        for (SampleAnswer& a : answers) a = SampleAnswer::traced;
-        if (stats) {
-            stats->tiles += 1;
-            stats->rays += n;
-            stats->traced += n;
-        }
+        record_traced_tile(n, stats, answers);
     }
 
 private:

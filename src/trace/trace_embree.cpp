@@ -35,6 +35,7 @@
 
 #include "rtt/error.h"
 #include "trace/factories.h"
+#include "trace/traced_tile.h"
 
 namespace rtt {
 namespace {
@@ -164,12 +165,7 @@ public:
             intersect16(tile, hits);
         else
             intersect1(tile, hits);
-        for (SampleAnswer& a : answers) a = SampleAnswer::traced;
-        if (stats) {
-            stats->tiles += 1;
-            stats->rays += tile.rays.size();
-            stats->traced += tile.rays.size();
-        }
+        record_traced_tile(tile.rays.size(), stats, answers);
     }
 
     void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
@@ -180,12 +176,7 @@ public:
             occluded1(tile, visible);
         uint64_t n = 0;
         for (size_t i = 0; i < tile.points.size(); ++i) n += tile.active[i] != 0;
-        for (SampleAnswer& a : answers) a = SampleAnswer::traced;
-        if (stats) {
-            stats->tiles += 1;
-            stats->rays += n;
-            stats->traced += n;
-        }
+        record_traced_tile(n, stats, answers);
     }
 
 private:

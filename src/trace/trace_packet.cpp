@@ -6,6 +6,7 @@
 #include "simd/simd.h"
 #include "trace/factories.h"
 #include "trace/trace_ray.h"
+#include "trace/traced_tile.h"
 
 namespace rtt {
 namespace {
@@ -363,23 +364,13 @@ public:
     void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
                    std::span<SampleAnswer> answers) const override {
         trace_tile_packets<K>(tree_, triangles_, tile, hits);
-        for (SampleAnswer& a : answers) a = SampleAnswer::traced;
-        if (stats) {
-            stats->tiles += 1;
-            stats->rays += tile.rays.size();
-            stats->traced += tile.rays.size();
-        }
+        record_traced_tile(tile.rays.size(), stats, answers);
     }
 
     void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
                   std::span<SampleAnswer> answers) const override {
         const uint64_t n = occluded_tile_packets<K>(tree_, triangles_, tile, visible);
-        for (SampleAnswer& a : answers) a = SampleAnswer::traced;
-        if (stats) {
-            stats->tiles += 1;
-            stats->rays += n;
-            stats->traced += n;
-        }
+        record_traced_tile(n, stats, answers);
     }
 
 private:

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "trace/factories.h"
+#include "trace/traced_tile.h"
 
 namespace rtt {
 
@@ -124,12 +125,7 @@ public:
     void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
                    std::span<SampleAnswer> answers) const override {
         for (size_t i = 0; i < tile.rays.size(); ++i) hits[i] = trace_ray(tree_, triangles_, tile.rays[i]);
-        for (SampleAnswer& a : answers) a = SampleAnswer::traced;
-        if (stats) {
-            stats->tiles += 1;
-            stats->rays += tile.rays.size();
-            stats->traced += tile.rays.size();
-        }
+        record_traced_tile(tile.rays.size(), stats, answers);
     }
 
     void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
@@ -141,12 +137,7 @@ public:
             ++n;
             visible[i] = !occluded_ray(tree_, triangles_, shadow_ray(tile.light, tile.points[i]));
         }
-        for (SampleAnswer& a : answers) a = SampleAnswer::traced;
-        if (stats) {
-            stats->tiles += 1;
-            stats->rays += n;
-            stats->traced += n;
-        }
+        record_traced_tile(n, stats, answers);
     }
 
 private:
