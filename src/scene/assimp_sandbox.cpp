@@ -41,7 +41,7 @@ public:
     template <typename T>
     void vector(const std::vector<T>& v) {
         pod(uint64_t(v.size()));
-        bytes_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+        if (!v.empty()) bytes_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
     }
     std::string& bytes() { return bytes_; }
 
@@ -67,7 +67,7 @@ public:
         const uint64_t n = pod<uint64_t>();
         if (n > (bytes_.size() - at_) / sizeof(T)) fail();
         std::vector<T> v(static_cast<size_t>(n));
-        std::memcpy(v.data(), take(n * sizeof(T)), size_t(n) * sizeof(T));
+        if (n > 0) std::memcpy(v.data(), take(n * sizeof(T)), size_t(n) * sizeof(T));
         return v;
     }
     bool done() const { return at_ == bytes_.size(); }
