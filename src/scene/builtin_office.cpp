@@ -13,15 +13,6 @@ using namespace proc;
 
 namespace {
 
-Material mat(const char* name, Vec3f diffuse, Vec3f specular = Vec3f{0.f}, float shininess = 32.f) {
-    Material m;
-    m.name = name;
-    m.diffuse = diffuse;
-    m.specular = specular;
-    m.shininess = shininess;
-    return m;
-}
-
 Vec3f apply(const Xform& x, const Vec3f& p) { return x.point(p); }
 
 }  // namespace
@@ -32,36 +23,36 @@ OfficeLayout build_office(Scene& scene, SceneBuilder& b) {
     layout.size = size;
 
     const ShellMaterials shell{
-        b.material(mat("carpet", {0.3f, 0.32f, 0.36f})),
-        b.material(mat("wall_paint", {0.78f, 0.77f, 0.72f})),
-        b.material(mat("ceiling", {0.86f, 0.86f, 0.85f})),
-        b.material(mat("skirting", {0.35f, 0.35f, 0.37f}, Vec3f{0.1f}, 30.f))};
+        b.material(phong("carpet", {0.3f, 0.32f, 0.36f})),
+        b.material(phong("wall_paint", {0.78f, 0.77f, 0.72f})),
+        b.material(phong("ceiling", {0.86f, 0.86f, 0.85f})),
+        b.material(phong("skirting", {0.35f, 0.35f, 0.37f}, Vec3f{0.1f}, 30.f))};
     OfficeMaterials m;
-    m.desk_top = b.material(mat("desk_laminate", {0.72f, 0.6f, 0.45f}, Vec3f{0.2f}, 50.f));
-    m.desk_frame = b.material(mat("desk_frame", {0.6f, 0.62f, 0.65f}, Vec3f{0.5f}, 70.f));
-    m.chair_fabric = b.material(mat("chair_fabric", {0.12f, 0.16f, 0.3f}));
-    m.chair_plastic = b.material(mat("black_plastic", {0.06f, 0.06f, 0.07f}, Vec3f{0.3f}, 60.f));
-    m.chrome = b.material(mat("chrome", {0.4f, 0.4f, 0.42f}, Vec3f{0.8f}, 120.f));
-    m.monitor = b.material(mat("monitor_housing", {0.1f, 0.1f, 0.11f}, Vec3f{0.25f}, 50.f));
-    m.screen = b.material(mat("screen", {0.08f, 0.12f, 0.22f}, Vec3f{0.6f}, 150.f));
-    m.keyboard = b.material(mat("keyboard", {0.75f, 0.75f, 0.73f}, Vec3f{0.2f}, 40.f));
-    m.keys = b.material(mat("keys", {0.9f, 0.9f, 0.88f}, Vec3f{0.15f}, 40.f));
-    m.paper = b.material(mat("paper", {0.92f, 0.92f, 0.9f}));
-    m.mug = b.material(mat("mug", {0.7f, 0.15f, 0.1f}, Vec3f{0.5f}, 100.f));
-    m.partition = b.material(mat("partition", {0.35f, 0.5f, 0.45f}));
-    m.cabinet = b.material(mat("cabinet", {0.62f, 0.64f, 0.66f}, Vec3f{0.2f}, 40.f));
-    m.handle = b.material(mat("handle", {0.25f, 0.25f, 0.27f}, Vec3f{0.6f}, 90.f));
-    m.lamp = b.material(mat("lamp", {0.8f, 0.3f, 0.08f}, Vec3f{0.4f}, 60.f));
-    const uint32_t board = b.material(mat("whiteboard", {0.9f, 0.9f, 0.9f}, Vec3f{0.4f}, 80.f));
-    const uint32_t glass = b.material(mat("window_sky", {0.8f, 0.88f, 0.97f}));
-    const uint32_t frame_mat = b.material(mat("window_frame", {0.55f, 0.56f, 0.58f}, Vec3f{0.2f}, 40.f));
-    const uint32_t diffuser = b.material(mat("light_diffuser", {0.95f, 0.95f, 0.93f}));
-    const uint32_t wood = b.material(mat("shelf_wood", {0.5f, 0.36f, 0.22f}, Vec3f{0.15f}, 40.f));
-    const uint32_t screen_panel = b.material(mat("screen_panel", {0.45f, 0.48f, 0.52f}));
+    m.desk_top = b.material(phong("desk_laminate", {0.72f, 0.6f, 0.45f}, Vec3f{0.2f}, 50.f));
+    m.desk_frame = b.material(phong("desk_frame", {0.6f, 0.62f, 0.65f}, Vec3f{0.5f}, 70.f));
+    m.chair_fabric = b.material(phong("chair_fabric", {0.12f, 0.16f, 0.3f}));
+    m.chair_plastic = b.material(phong("black_plastic", {0.06f, 0.06f, 0.07f}, Vec3f{0.3f}, 60.f));
+    m.chrome = b.material(phong("chrome", {0.4f, 0.4f, 0.42f}, Vec3f{0.8f}, 120.f));
+    m.monitor = b.material(phong("monitor_housing", {0.1f, 0.1f, 0.11f}, Vec3f{0.25f}, 50.f));
+    m.screen = b.material(phong("screen", {0.08f, 0.12f, 0.22f}, Vec3f{0.6f}, 150.f));
+    m.keyboard = b.material(phong("keyboard", {0.75f, 0.75f, 0.73f}, Vec3f{0.2f}, 40.f));
+    m.keys = b.material(phong("keys", {0.9f, 0.9f, 0.88f}, Vec3f{0.15f}, 40.f));
+    m.paper = b.material(phong("paper", {0.92f, 0.92f, 0.9f}));
+    m.mug = b.material(phong("mug", {0.7f, 0.15f, 0.1f}, Vec3f{0.5f}, 100.f));
+    m.partition = b.material(phong("partition", {0.35f, 0.5f, 0.45f}));
+    m.cabinet = b.material(phong("cabinet", {0.62f, 0.64f, 0.66f}, Vec3f{0.2f}, 40.f));
+    m.handle = b.material(phong("handle", {0.25f, 0.25f, 0.27f}, Vec3f{0.6f}, 90.f));
+    m.lamp = b.material(phong("lamp", {0.8f, 0.3f, 0.08f}, Vec3f{0.4f}, 60.f));
+    const uint32_t board = b.material(phong("whiteboard", {0.9f, 0.9f, 0.9f}, Vec3f{0.4f}, 80.f));
+    const uint32_t glass = b.material(phong("window_sky", {0.8f, 0.88f, 0.97f}));
+    const uint32_t frame_mat = b.material(phong("window_frame", {0.55f, 0.56f, 0.58f}, Vec3f{0.2f}, 40.f));
+    const uint32_t diffuser = b.material(phong("light_diffuser", {0.95f, 0.95f, 0.93f}));
+    const uint32_t wood = b.material(phong("shelf_wood", {0.5f, 0.36f, 0.22f}, Vec3f{0.15f}, 40.f));
+    const uint32_t screen_panel = b.material(phong("screen_panel", {0.45f, 0.48f, 0.52f}));
     std::vector<uint32_t> books;
     const Vec3f book_colours[] = {{0.55f, 0.1f, 0.1f}, {0.1f, 0.25f, 0.5f}, {0.15f, 0.4f, 0.2f},
                                   {0.85f, 0.8f, 0.6f}, {0.12f, 0.12f, 0.12f}, {0.9f, 0.6f, 0.1f}};
-    for (const Vec3f& c : book_colours) books.push_back(b.material(mat("binder", c, Vec3f{0.1f}, 20.f)));
+    for (const Vec3f& c : book_colours) books.push_back(b.material(phong("binder", c, Vec3f{0.1f}, 20.f)));
     const uint32_t ornaments[] = {m.mug, m.chrome};
 
     room_shell(b, size, shell, 1.f);

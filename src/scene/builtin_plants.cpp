@@ -10,19 +10,6 @@ namespace rtt {
 
 using namespace proc;
 
-namespace {
-
-Material mat(const char* name, Vec3f diffuse, Vec3f specular = Vec3f{0.f}, float shininess = 32.f) {
-    Material m;
-    m.name = name;
-    m.diffuse = diffuse;
-    m.specular = specular;
-    m.shininess = shininess;
-    return m;
-}
-
-}  // namespace
-
 Scene make_plants_scene() {
     Scene scene;
     scene.name = "plants";
@@ -30,14 +17,14 @@ Scene make_plants_scene() {
     const OfficeLayout layout = build_office(scene, b);
 
     const uint32_t leaves[] = {
-        b.material(mat("leaf_dark", {0.07f, 0.22f, 0.05f}, Vec3f{0.15f}, 40.f)),
-        b.material(mat("leaf_mid", {0.13f, 0.33f, 0.07f}, Vec3f{0.15f}, 40.f)),
-        b.material(mat("leaf_light", {0.25f, 0.45f, 0.1f}, Vec3f{0.1f}, 30.f))};
+        b.material(phong("leaf_dark", {0.07f, 0.22f, 0.05f}, Vec3f{0.15f}, 40.f)),
+        b.material(phong("leaf_mid", {0.13f, 0.33f, 0.07f}, Vec3f{0.15f}, 40.f)),
+        b.material(phong("leaf_light", {0.25f, 0.45f, 0.1f}, Vec3f{0.1f}, 30.f))};
     PlantMaterials m;
-    m.pot = b.material(mat("terracotta", {0.62f, 0.3f, 0.17f}));
-    m.pot_alt = b.material(mat("glazed_pot", {0.85f, 0.84f, 0.8f}, Vec3f{0.4f}, 90.f));
-    m.soil = b.material(mat("soil", {0.16f, 0.11f, 0.07f}));
-    m.stem = b.material(mat("stem", {0.3f, 0.22f, 0.12f}));
+    m.pot = b.material(phong("terracotta", {0.62f, 0.3f, 0.17f}));
+    m.pot_alt = b.material(phong("glazed_pot", {0.85f, 0.84f, 0.8f}, Vec3f{0.4f}, 90.f));
+    m.soil = b.material(phong("soil", {0.16f, 0.11f, 0.07f}));
+    m.stem = b.material(phong("stem", {0.3f, 0.22f, 0.12f}));
     m.leaves = leaves;
 
     // One generator per plant, seeded by its index, so each plant is fixed regardless of the
@@ -53,7 +40,7 @@ Scene make_plants_scene() {
         else
             ficus(b, at, rng.range(1.4f, 1.9f), s.reach, m, rng);
     }
-    const uint32_t planter = b.material(mat("planter", {0.3f, 0.3f, 0.32f}, Vec3f{0.2f}, 40.f));
+    const uint32_t planter = b.material(phong("planter", {0.3f, 0.3f, 0.32f}, Vec3f{0.2f}, 40.f));
     for (const Vec3f& p : layout.planter_spots) {
         const float h = 0.45f;
         b.add(planter, rounded_box({0.2f, 0.5f * h, 0.75f}, 0.02f, 2), Xform::translate(p + Vec3f{0.f, 0.5f * h, 0.f}));

@@ -13,17 +13,6 @@ using namespace proc;
 
 namespace {
 
-Material mat(const char* name, Vec3f diffuse, Vec3f specular = Vec3f{0.f}, float shininess = 32.f,
-             float mirror = 0.f) {
-    Material m;
-    m.name = name;
-    m.diffuse = diffuse;
-    m.specular = specular;
-    m.shininess = shininess;
-    m.mirror = mirror;
-    return m;
-}
-
 Light spot(Vec3f position, Vec3f target, float intensity) {
     Light l;
     l.kind = LightKind::spot;
@@ -46,36 +35,36 @@ Scene make_room_scene() {
     const Vec3f size{6.f, 3.f, 5.f};
 
     const ShellMaterials shell{
-        b.material(mat("floor_oak", {0.46f, 0.3f, 0.17f}, Vec3f{0.12f}, 40.f)),
-        b.material(mat("wall_paint", {0.74f, 0.7f, 0.62f})),
-        b.material(mat("ceiling", {0.85f, 0.85f, 0.83f})),
-        b.material(mat("skirting", {0.9f, 0.9f, 0.88f}, Vec3f{0.1f}, 30.f))};
-    const uint32_t walnut = b.material(mat("walnut", {0.3f, 0.17f, 0.09f}, Vec3f{0.25f}, 60.f));
-    const uint32_t oak = b.material(mat("light_wood", {0.62f, 0.45f, 0.27f}, Vec3f{0.2f}, 50.f));
-    const uint32_t seat = b.material(mat("seat_leather", {0.45f, 0.12f, 0.08f}, Vec3f{0.2f}, 30.f));
-    const uint32_t fabric = b.material(mat("sofa_fabric", {0.2f, 0.3f, 0.42f}));
-    const uint32_t cushion = b.material(mat("sofa_cushion", {0.24f, 0.36f, 0.5f}));
-    const uint32_t pillow = b.material(mat("pillow", {0.85f, 0.62f, 0.2f}));
-    const uint32_t metal = b.material(mat("brushed_metal", {0.5f, 0.5f, 0.52f}, Vec3f{0.6f}, 80.f));
-    const uint32_t brass = b.material(mat("brass", {0.55f, 0.42f, 0.16f}, Vec3f{0.7f, 0.6f, 0.35f}, 90.f));
-    const uint32_t shade = b.material(mat("lamp_shade", {0.92f, 0.86f, 0.72f}));
-    const uint32_t rug = b.material(mat("rug", {0.55f, 0.22f, 0.18f}));
-    const uint32_t ceramic = b.material(mat("ceramic_white", {0.85f, 0.85f, 0.82f}, Vec3f{0.5f}, 120.f));
-    const uint32_t ceramic_blue = b.material(mat("ceramic_blue", {0.12f, 0.25f, 0.6f}, Vec3f{0.5f}, 120.f));
-    const uint32_t ceramic_green = b.material(mat("ceramic_green", {0.2f, 0.45f, 0.3f}, Vec3f{0.4f}, 100.f));
-    const uint32_t orange = b.material(mat("orange", {0.9f, 0.45f, 0.05f}, Vec3f{0.2f}, 40.f));
-    const uint32_t apple = b.material(mat("apple", {0.6f, 0.08f, 0.06f}, Vec3f{0.3f}, 60.f));
-    const uint32_t glass = b.material(mat("window_sky", {0.8f, 0.88f, 0.97f}));
-    const uint32_t white_frame = b.material(mat("window_frame", {0.88f, 0.88f, 0.86f}, Vec3f{0.15f}, 40.f));
-    const uint32_t curtain_mat = b.material(mat("curtain", {0.7f, 0.6f, 0.42f}));
-    const uint32_t canvas_a = b.material(mat("painting_a", {0.2f, 0.4f, 0.55f}));
-    const uint32_t canvas_b = b.material(mat("painting_b", {0.75f, 0.55f, 0.25f}));
-    const uint32_t mirror = b.material(mat("mirror", Vec3f{0.03f}, Vec3f{0.3f}, 200.f, 0.85f));
+        b.material(phong("floor_oak", {0.46f, 0.3f, 0.17f}, Vec3f{0.12f}, 40.f)),
+        b.material(phong("wall_paint", {0.74f, 0.7f, 0.62f})),
+        b.material(phong("ceiling", {0.85f, 0.85f, 0.83f})),
+        b.material(phong("skirting", {0.9f, 0.9f, 0.88f}, Vec3f{0.1f}, 30.f))};
+    const uint32_t walnut = b.material(phong("walnut", {0.3f, 0.17f, 0.09f}, Vec3f{0.25f}, 60.f));
+    const uint32_t oak = b.material(phong("light_wood", {0.62f, 0.45f, 0.27f}, Vec3f{0.2f}, 50.f));
+    const uint32_t seat = b.material(phong("seat_leather", {0.45f, 0.12f, 0.08f}, Vec3f{0.2f}, 30.f));
+    const uint32_t fabric = b.material(phong("sofa_fabric", {0.2f, 0.3f, 0.42f}));
+    const uint32_t cushion = b.material(phong("sofa_cushion", {0.24f, 0.36f, 0.5f}));
+    const uint32_t pillow = b.material(phong("pillow", {0.85f, 0.62f, 0.2f}));
+    const uint32_t metal = b.material(phong("brushed_metal", {0.5f, 0.5f, 0.52f}, Vec3f{0.6f}, 80.f));
+    const uint32_t brass = b.material(phong("brass", {0.55f, 0.42f, 0.16f}, Vec3f{0.7f, 0.6f, 0.35f}, 90.f));
+    const uint32_t shade = b.material(phong("lamp_shade", {0.92f, 0.86f, 0.72f}));
+    const uint32_t rug = b.material(phong("rug", {0.55f, 0.22f, 0.18f}));
+    const uint32_t ceramic = b.material(phong("ceramic_white", {0.85f, 0.85f, 0.82f}, Vec3f{0.5f}, 120.f));
+    const uint32_t ceramic_blue = b.material(phong("ceramic_blue", {0.12f, 0.25f, 0.6f}, Vec3f{0.5f}, 120.f));
+    const uint32_t ceramic_green = b.material(phong("ceramic_green", {0.2f, 0.45f, 0.3f}, Vec3f{0.4f}, 100.f));
+    const uint32_t orange = b.material(phong("orange", {0.9f, 0.45f, 0.05f}, Vec3f{0.2f}, 40.f));
+    const uint32_t apple = b.material(phong("apple", {0.6f, 0.08f, 0.06f}, Vec3f{0.3f}, 60.f));
+    const uint32_t glass = b.material(phong("window_sky", {0.8f, 0.88f, 0.97f}));
+    const uint32_t white_frame = b.material(phong("window_frame", {0.88f, 0.88f, 0.86f}, Vec3f{0.15f}, 40.f));
+    const uint32_t curtain_mat = b.material(phong("curtain", {0.7f, 0.6f, 0.42f}));
+    const uint32_t canvas_a = b.material(phong("painting_a", {0.2f, 0.4f, 0.55f}));
+    const uint32_t canvas_b = b.material(phong("painting_b", {0.75f, 0.55f, 0.25f}));
+    const uint32_t mirror = b.material(phong("mirror", Vec3f{0.03f}, Vec3f{0.3f}, 200.f, 0.85f));
     std::vector<uint32_t> books;
     const Vec3f book_colours[] = {{0.55f, 0.1f, 0.1f}, {0.1f, 0.25f, 0.5f}, {0.15f, 0.4f, 0.2f},
                                   {0.8f, 0.7f, 0.45f}, {0.12f, 0.12f, 0.12f}, {0.6f, 0.35f, 0.1f},
                                   {0.85f, 0.85f, 0.8f}, {0.35f, 0.15f, 0.4f}};
-    for (const Vec3f& c : book_colours) books.push_back(b.material(mat("book", c, Vec3f{0.08f}, 20.f)));
+    for (const Vec3f& c : book_colours) books.push_back(b.material(phong("book", c, Vec3f{0.08f}, 20.f)));
     const uint32_t ornaments[] = {ceramic, ceramic_blue, ceramic_green, brass};
 
     room_shell(b, size, shell, 0.75f);

@@ -10,13 +10,6 @@ namespace {
 
 int cell_count(float length, float cell) { return std::max(1, int(std::ceil(length / cell - 1e-4f))); }
 
-/// Rounded box given by its corners instead of its centre.
-Mesh rounded_block(const Vec3f& lo, const Vec3f& hi, float r, int arc) {
-    Mesh m;
-    m.append(rounded_box((hi - lo) * 0.5f, r, arc), Xform::translate((lo + hi) * 0.5f));
-    return m;
-}
-
 }  // namespace
 
 void room_shell(SceneBuilder& b, const Vec3f& size, const ShellMaterials& m, float cell) {

@@ -9,12 +9,6 @@ namespace rtt::proc {
 
 namespace {
 
-Mesh rounded_block(const Vec3f& lo, const Vec3f& hi, float r, int arc) {
-    Mesh m;
-    m.append(rounded_box((hi - lo) * 0.5f, r, arc), Xform::translate((lo + hi) * 0.5f));
-    return m;
-}
-
 Mesh bent_tube(std::initializer_list<Vec3f> corners, float corner_radius, float r, int sides) {
     const std::vector<Vec3f> c(corners);
     const std::vector<Vec3f> path = rounded_polyline(c, corner_radius, 6);

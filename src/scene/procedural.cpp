@@ -280,6 +280,22 @@ Mesh extrude(std::span<const Vec2f> polygon, float depth) {
     return m;
 }
 
+Mesh rounded_block(const Vec3f& lo, const Vec3f& hi, float radius, int arc) {
+    Mesh m;
+    m.append(rounded_box((hi - lo) * 0.5f, radius, arc), Xform::translate((lo + hi) * 0.5f));
+    return m;
+}
+
+Material phong(const char* name, Vec3f diffuse, Vec3f specular, float shininess, float mirror) {
+    Material m;
+    m.name = name;
+    m.diffuse = diffuse;
+    m.specular = specular;
+    m.shininess = shininess;
+    m.mirror = mirror;
+    return m;
+}
+
 uint32_t SceneBuilder::material(const Material& m) {
     const uint32_t index = scene_.add_material(m);
     per_material_.resize(size_t(index) + 1);

@@ -84,6 +84,9 @@ Mesh quad_grid(const Vec3f& corner, const Vec3f& u, const Vec3f& v, int nu, int 
 Mesh rounded_box(const Vec3f& half, float radius, int arc, Shading shading = Shading::smooth,
                  float cell = 0.f);
 
+/// rounded_box() spanning the axis-aligned block [lo, hi].
+Mesh rounded_block(const Vec3f& lo, const Vec3f& hi, float radius, int arc);
+
 /// Bends a mesh in the xz plane: z -> z - k x^2; normals follow (inverse transpose of the
 /// Jacobian), zero normals stay zero.
 void bend(Mesh& m, float k);
@@ -140,6 +143,10 @@ private:
 
 /// Collects meshes per material and writes them into a Scene in material order, so a scene of
 /// many small parts becomes one add_mesh call per material.
+/// A Phong material (diffuse, specular, exponent, mirror reflectivity) named `name`.
+Material phong(const char* name, Vec3f diffuse, Vec3f specular = Vec3f{0.f}, float shininess = 32.f,
+               float mirror = 0.f);
+
 class SceneBuilder {
 public:
     explicit SceneBuilder(Scene& scene) : scene_(scene) {}

@@ -7,12 +7,6 @@ namespace rtt::proc {
 
 namespace {
 
-Mesh rounded_block(const Vec3f& lo, const Vec3f& hi, float r, int arc) {
-    Mesh m;
-    m.append(rounded_box((hi - lo) * 0.5f, r, arc), Xform::translate((lo + hi) * 0.5f));
-    return m;
-}
-
 float bump(float t, float centre, float width) {
     const float d = (t - centre) / width;
     return std::exp(-d * d);
