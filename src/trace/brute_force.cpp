@@ -37,20 +37,14 @@ public:
 
     void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
                    std::span<SampleAnswer> answers) const override {
-        for (size_t i = 0; i < tile.rays.size(); ++i) hits[i] = trace_brute_force(triangles_, tile.rays[i]);
-        record_traced_tile(tile.rays.size(), stats, answers);
+        intersect_one_by_one(tile, hits, stats, answers,
+                              [&](const Ray& ray) { return trace_brute_force(triangles_, ray); });
     }
 
     void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
                   std::span<SampleAnswer> answers) const override {
-        uint64_t n = 0;
-        for (size_t i = 0; i < tile.points.size(); ++i) {
-            visible[i] = 0;
-            if (!tile.active[i]) continue;
-            ++n;
-            visible[i] = !occluded_brute_force(triangles_, shadow_ray(tile.light, tile.points[i]));
-        }
-        record_traced_tile(n, stats, answers);
+        occluded_one_by_one(tile, visible, stats, answers,
+                             [&](const Ray& ray) { return occluded_brute_force(triangles_, ray); });
     }
 
 private:
