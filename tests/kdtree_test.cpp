@@ -21,11 +21,14 @@
 #include "rtt/tracer.h"
 #include "trace/brute_force.h"
 #include "trace/trace_ray.h"
+#include "triangle_soup.h"
 
 namespace rtt {
 namespace {
 
-using Tris = std::vector<TriangleVerts>;
+using test::scene_of;
+using test::translated;
+using test::Tris;
 
 struct Vec3d {
     double x, y, z;
@@ -33,23 +36,6 @@ struct Vec3d {
 };
 
 Vec3d to_double(const Vec3f& v) { return {v.x, v.y, v.z}; }
-
-Scene scene_of(const Tris& tris) {
-    Scene s;
-    for (const TriangleVerts& t : tris) {
-        const auto b = uint32_t(s.vertices.size());
-        s.vertices.insert(s.vertices.end(), {t.v0, t.v1, t.v2});
-        s.triangles.push_back({b, b + 1, b + 2});
-        s.triangle_material.push_back(0);
-    }
-    s.materials.emplace_back();
-    return s;
-}
-
-Tris translated(Tris tris, const Vec3f& by) {
-    for (TriangleVerts& t : tris) t = {t.v0 + by, t.v1 + by, t.v2 + by};
-    return tris;
-}
 
 // ---- scenes ---------------------------------------------------------------------------------
 
