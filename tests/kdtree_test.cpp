@@ -646,6 +646,32 @@ TEST(KdTree, MatchesBruteForceOnCameraShadowAndSecondaryRays) {
     EXPECT_GT(shadow.size(), primary.size() / 2) << "most camera rays should hit";
 }
 
+// A camera far from a small scene (fuzz_cli_values/camera_11469_away_tie: 11469 away from a
+// box of size 2, fovy 6e-6 degrees): the box-clip distances (bound - org) / dir are rounded at
+// the origin's magnitude, far coarser than the tree's padding, and must not cut off the hit
+// brute force finds on the bounds (a tie between two triangles of the box's edge).
+TEST(KdTree, FarCameraKeepsHitsOnTheTreeBounds) {
+    const Vec3f v[8] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                        {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+    const int faces[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                              {3, 6, 2}, {3, 7, 6}, {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}};
+    Tris tris;
+    for (const auto& f : faces) tris.push_back({v[f[0]], v[f[1]], v[f[2]]});
+    const KdTree tree = build_kdtree(scene_of(tris));
+    std::vector<Ray> rays;
+    for (const char* text : {"22,9990,05637,0,1,1,0,0,8,.000006", "22,9990,5637,1,1,1,0,0,8,.00002",
+                             "-3e4,2e4,1e4,-1,1,-1,0,1,0,.0001", "1e5,1e5,1e5,1,1,1,0,1,0,.00001"}) {
+        const CameraRays camera(parse_camera(text), 24, 24, 1);
+        for (int y = 0; y < camera.height(); ++y)
+            for (int x = 0; x < camera.width(); ++x)
+                rays.push_back({camera.origin(), camera.direction(x, y, 0, 0)});
+    }
+    const Mismatches m = compare_with_brute_force(tree, tris, rays);
+    EXPECT_EQ(m.closest, 0u);
+    EXPECT_EQ(m.occluded, 0u);
+    EXPECT_GT(m.hits, rays.size() / 4) << "the views should see the box";
+}
+
 TEST(KdTree, IdenticalTrianglesBuildQuickly) {
     for (const TriangleVerts& t : {TriangleVerts{{0, 0, 0}, {1, 0, 0}, {0, 1, 1}},
                                    TriangleVerts{{0, 0, 5}, {1, 0, 5}, {0, 1, 5}}}) {

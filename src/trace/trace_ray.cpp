@@ -16,15 +16,20 @@ Bbox3f padded_bounds(const Bbox3f& box) {
 
 namespace {
 
-/// Clips [t0, t1] to the padded box; returns false when nothing is left.
-bool clip_to_box(const Bbox3f& box, const Vec3f& org, const Vec3f& inv, float& t0, float& t1) {
+/// Clips [t0, t1] to the padded box, then widens what the box cut by the split margin for
+/// `t_scale` (trace_ray.h); returns false when nothing is left.
+bool clip_to_box(const Bbox3f& box, const Vec3f& org, const Vec3f& inv, float t_scale, float& t0,
+                 float& t1) {
+    float lo = t0, hi = t1;
     for (int a = 0; a < 3; ++a) {
         float tn = (box.lo[a] - org[a]) * inv[a];
         float tf = (box.hi[a] - org[a]) * inv[a];
         if (tn > tf) std::swap(tn, tf);
-        if (tn > t0) t0 = tn;  // a NaN comparison is false: NaN never shrinks the interval
-        if (tf < t1) t1 = tf;
+        if (tn > lo) lo = tn;  // a NaN comparison is false: NaN never shrinks the interval
+        if (tf < hi) hi = tf;
     }
+    if (lo > t0) t0 = std::max(t0, lo - (std::fabs(lo) + t_scale) * kd_margin);
+    if (hi < t1) t1 = std::min(t1, hi + (std::fabs(hi) + t_scale) * kd_margin);
     return t0 <= t1;
 }
 
@@ -53,8 +58,8 @@ Hit traverse(const KdTree& tree, std::span<const TriangleVerts> triangles, const
                                    std::signbit(ray.dir.z)};
     float t0 = ray.tmin, t1 = ray.tmax;
     const Bbox3f box = padded_bounds(tree.bounds);
-    if (!clip_to_box(box, ray.org, inv, t0, t1)) return best;
     const float t_scale = scene_t_scale(box, ray);
+    if (!clip_to_box(box, ray.org, inv, t_scale, t0, t1)) return best;
 
     StackEntry stack[kd_max_depth + 1];
     int top = 0;

@@ -6,7 +6,12 @@
 //
 //  * The ray's parameter interval is clipped to the tree bounds padded by kd_box_pad relative
 //    to their extent; a NaN slab distance (origin on a slab face, direction 0 along it) never
-//    shrinks the interval.
+//    shrinks the interval. An end the box moved is then widened by the split margin below,
+//    (|t| + s) * kd_margin, but not beyond [tmin, tmax]: the slab distances are rounded at the
+//    origin's magnitude, which for a camera far from a small scene is far coarser than the
+//    padding, and an entry distance a few ulps past a hit on the bounds would skip every
+//    stacked node there (camera 11469 away from a box of size 2: kdtree_test's
+//    FarCameraKeepsHitsOnTheTreeBounds).
 //  * At an inner node, d = (split - org[axis]) * inv_dir[axis]. The child on the side the ray
 //    comes from first is `below` when the direction component is +0 or positive and `above` when
 //    its sign bit is set; it covers t <= d, the other covers t >= d. With the margin
