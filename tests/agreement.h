@@ -50,13 +50,8 @@ inline bool tie_breaks_differ(const std::string& kind) {
 
 /// The primary rays of tile (tx, ty), exactly as the renderer builds them.
 inline std::vector<Ray> primary_tile(const CameraRays& cam, int tx, int ty) {
-    const int k = cam.aa(), side = 4 * k;
-    std::vector<Ray> rays(size_t(side) * size_t(side));
-    for (int sr = 0; sr < side; ++sr)
-        for (int sc = 0; sc < side; ++sc)
-            rays[size_t(sr) * size_t(side) + size_t(sc)] =
-                Ray{cam.origin(),
-                    cam.direction(tx * 4 + sc / k, ty * 4 + sr / k, sc % k, sr % k), 0.f, pos_inf};
+    std::vector<Ray> rays(size_t(16) * size_t(cam.aa()) * size_t(cam.aa()));
+    cam.tile_rays(tx, ty, rays);
     return rays;
 }
 

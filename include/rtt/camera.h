@@ -1,6 +1,8 @@
 // Primary-ray generation exactly as CONVENTIONS specifies (bit-identical across programs).
 #pragma once
 
+#include <span>
+
 #include "rtt/math.h"
 #include "rtt/scene.h"
 
@@ -19,6 +21,12 @@ public:
     /// Pixels outside the image (padding) follow the same formula.
     Vec3f direction(int x, int y, int i, int j) const;
     Vec3f origin() const { return pos_; }
+
+    /// The (4K)^2 primary rays of 4x4-pixel tile (tx, ty) into `out`, in tile sample order:
+    /// out[sr * 4K + sc] is sample (sc % K, sr % K) of pixel (4 tx + sc / K, 4 ty + sr / K),
+    /// with t in [0, inf). Every place that shoots camera tiles (renderer, benchmarks, tests)
+    /// uses this, so they all trace the same rays.
+    void tile_rays(int tx, int ty, std::span<Ray> out) const;
 
     int width() const { return width_; }
     int height() const { return height_; }

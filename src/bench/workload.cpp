@@ -88,24 +88,20 @@ uint64_t Workload::primary_rays() const {
 
 Band Workload::make_band(int b) const {
     const CameraRays camera(scene_->camera, width_, height_, aa_);
-    const int k = aa_, n = 4 * k;
+    const int n = 4 * aa_;
     Band band;
     band.first_tile_row = band_rows_[size_t(b)].first;
     band.tile_rows = band_rows_[size_t(b)].second;
     band.tiles_x = tiles_x_;
     band.side = n;
     band.rays.resize(band.tile_count() * band.tile_samples());
-    const Vec3f org = camera.origin();
-    Ray* out = band.rays.data();
-    // Same loop as the renderer's render_tile (src/render/tiles.cpp); tests/bench_test.cpp
-    // checks the hits against render()'s hit buffer, so the two cannot drift apart silently.
+    // The renderer's rays (CameraRays::tile_rays); tests/bench_test.cpp also checks the hits
+    // against render()'s hit buffer.
+    const size_t per_tile = band.tile_samples();
+    size_t t = 0;
     for (int ty = band.first_tile_row; ty < band.first_tile_row + band.tile_rows; ++ty)
-        for (int tx = 0; tx < tiles_x_; ++tx)
-            for (int sr = 0; sr < n; ++sr)
-                for (int sc = 0; sc < n; ++sc)
-                    *out++ =
-                        Ray{org, camera.direction(tx * 4 + sc / k, ty * 4 + sr / k, sc % k, sr % k),
-                            0.f, pos_inf};
+        for (int tx = 0; tx < tiles_x_; ++tx, ++t)
+            camera.tile_rays(tx, ty, std::span(band.rays).subspan(t * per_tile, per_tile));
     return band;
 }
 

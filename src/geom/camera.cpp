@@ -5,6 +5,7 @@
 #include <sstream>
 #include <vector>
 
+#include "core/check.h"
 #include "rtt/camera.h"
 #include "rtt/error.h"
 
@@ -48,6 +49,15 @@ Vec3f CameraRays::direction(int x, int y, int i, int j) const {
     const float a = (2.f * u - 1.f) * h_ * aspect_;
     const float b = (2.f * v - 1.f) * h_;
     return normalize(forward_ + a * right_ - b * up2_);
+}
+
+void CameraRays::tile_rays(int tx, int ty, std::span<Ray> out) const {
+    const int k = aa_, side = 4 * k;
+    RTT_CHECK_EQ(out.size(), size_t(side) * size_t(side));
+    for (int sr = 0; sr < side; ++sr)
+        for (int sc = 0; sc < side; ++sc)
+            out[size_t(sr) * size_t(side) + size_t(sc)] =
+                Ray{pos_, direction(tx * 4 + sc / k, ty * 4 + sr / k, sc % k, sr % k), 0.f, pos_inf};
 }
 
 Camera default_camera_for(const Bbox3f& box, float fovy_deg) {

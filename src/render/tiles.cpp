@@ -66,15 +66,8 @@ void render_tile(const TileJob& job, int tx, int ty, ThreadStats& ts) {
     const int k = opt.aa, n = 4 * k, spp = k * k;
     const int w = opt.width, h = opt.height;
 
-    // Sample (row sr, column sc) of the tile belongs to pixel (tx*4 + sc/K, ty*4 + sr/K) and is
-    // its sample (i, j) = (sc % K, sr % K).
     RayBatch batch{n, n, true, std::vector<Ray>(size_t(n) * size_t(n))};
-    const Vec3f org = job.camera.origin();
-    for (int sr = 0; sr < n; ++sr)
-        for (int sc = 0; sc < n; ++sc)
-            batch.rays[size_t(sr) * n + sc] =
-                Ray{org, job.camera.direction(tx * 4 + sc / k, ty * 4 + sr / k, sc % k, sr % k),
-                    0.f, pos_inf};
+    job.camera.tile_rays(tx, ty, batch.rays);
 
     PrimaryRecord record;
     std::vector<Vec3f> colors(batch.rays.size());
