@@ -3,11 +3,13 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <csignal>
 #include <cstring>
 #include <exception>
 #include <new>
+#include <optional>
 #include <type_traits>
 
 #include "rtt/error.h"
@@ -27,104 +29,146 @@ static_assert(std::is_trivially_copyable_v<Light> && std::is_trivially_copyable_
 constexpr uint32_t magic = 0x52545453;  // "STTR"
 enum class Reply : uint8_t { scene = 1, error = 2 };
 
+/// Sends bytes to a string or, buffered, to a file descriptor (the pipe), so a big scene is
+/// never held twice in the child.
 class Writer {
 public:
+    explicit Writer(std::string& out) : out_(&out) {}
+    explicit Writer(int fd) : fd_(fd) {}
+    ~Writer() { flush(); }
+    Writer(const Writer&) = delete;
+    Writer& operator=(const Writer&) = delete;
+
     template <typename T>
     void pod(const T& v) {
         static_assert(std::is_trivially_copyable_v<T>);
-        bytes_.append(reinterpret_cast<const char*>(&v), sizeof v);
+        raw(&v, sizeof v);
     }
     void string(const std::string& s) {
         pod(uint64_t(s.size()));
-        bytes_ += s;
+        raw(s.data(), s.size());
     }
     template <typename T>
     void vector(const std::vector<T>& v) {
         pod(uint64_t(v.size()));
-        if (!v.empty()) bytes_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+        raw(v.data(), v.size() * sizeof(T));
     }
-    std::string& bytes() { return bytes_; }
+    /// False once a write to the descriptor failed.
+    bool flush() {
+        if (fd_ >= 0 && !write_all(buffer_.data(), buffer_.size())) ok_ = false;
+        buffer_.clear();
+        return ok_;
+    }
 
 private:
-    std::string bytes_;
+    void raw(const void* p, size_t n) {
+        if (n == 0) return;
+        if (out_) {
+            out_->append(static_cast<const char*>(p), n);
+            return;
+        }
+        if (buffer_.size() + n > buffer_bytes) flush();
+        if (n >= buffer_bytes) {
+            if (!write_all(static_cast<const char*>(p), n)) ok_ = false;
+        } else {
+            buffer_.append(static_cast<const char*>(p), n);
+        }
+    }
+    bool write_all(const char* p, size_t n) const {
+        for (size_t done = 0; done < n;) {
+            const ssize_t k = ::write(fd_, p + done, n - done);
+            if (k < 0 && errno == EINTR) continue;
+            if (k <= 0) return false;
+            done += size_t(k);
+        }
+        return true;
+    }
+    static constexpr size_t buffer_bytes = size_t(1) << 16;
+    std::string* out_ = nullptr;
+    int fd_ = -1;
+    std::string buffer_;
+    bool ok_ = true;
 };
 
+/// Reads what Writer wrote, from a string or a descriptor; throws rtt::Error if it ends early.
 class Reader {
 public:
-    explicit Reader(const std::string& bytes) : bytes_(bytes) {}
+    explicit Reader(const std::string& bytes) : bytes_(&bytes) {}
+    explicit Reader(int fd) : fd_(fd) {}
+
     template <typename T>
     T pod() {
         T v;
-        std::memcpy(&v, take(sizeof v), sizeof v);
+        raw(&v, sizeof v);
         return v;
     }
     std::string string() {
-        const uint64_t n = pod<uint64_t>();
-        return std::string(take(n), size_t(n));
+        std::string s;
+        read_chunked(s, pod<uint64_t>());
+        return s;
     }
     template <typename T>
     std::vector<T> vector() {
-        const uint64_t n = pod<uint64_t>();
-        if (n > (bytes_.size() - at_) / sizeof(T)) fail();
-        std::vector<T> v(static_cast<size_t>(n));
-        if (n > 0) std::memcpy(v.data(), take(n * sizeof(T)), size_t(n) * sizeof(T));
+        std::vector<T> v;
+        read_chunked(v, pod<uint64_t>());
         return v;
     }
-    bool done() const { return at_ == bytes_.size(); }
+    /// True when nothing is left.
+    bool at_end() {
+        if (bytes_) return at_ == bytes_->size();
+        return !fill();
+    }
 
 private:
-    [[noreturn]] static void fail() { throw Error("assimp sandbox: malformed reply"); }
-    const char* take(uint64_t n) {
-        if (n > bytes_.size() - at_) fail();
-        const char* p = bytes_.data() + at_;
-        at_ += size_t(n);
-        return p;
+    [[noreturn]] static void fail() { throw Error("assimp sandbox: malformed or truncated reply"); }
+
+    /// Grows `out` as data arrives (a count from a truncated reply never allocates ahead).
+    template <typename Container>
+    void read_chunked(Container& out, uint64_t count) {
+        constexpr uint64_t chunk = uint64_t(1) << 20;
+        for (uint64_t done = 0; done < count;) {
+            const uint64_t n = std::min(chunk, count - done);
+            out.resize(size_t(done + n));
+            raw(out.data() + done, size_t(n) * sizeof(typename Container::value_type));
+            done += n;
+        }
     }
-    const std::string& bytes_;
+    void raw(void* p, size_t n) {
+        auto* dst = static_cast<char*>(p);
+        while (n > 0) {
+            if (bytes_) {
+                if (n > bytes_->size() - at_) fail();
+                std::memcpy(dst, bytes_->data() + at_, n);
+                at_ += n;
+                return;
+            }
+            if (at_ == buffer_.size() && !fill()) fail();
+            const size_t k = std::min(n, buffer_.size() - at_);
+            std::memcpy(dst, buffer_.data() + at_, k);
+            at_ += k;
+            dst += k;
+            n -= k;
+        }
+    }
+    /// Refills the buffer from the descriptor; false at the end of the stream.
+    bool fill() {
+        if (at_ < buffer_.size()) return true;
+        buffer_.resize(size_t(1) << 16);
+        for (;;) {
+            const ssize_t k = ::read(fd_, buffer_.data(), buffer_.size());
+            if (k < 0 && errno == EINTR) continue;
+            buffer_.resize(k > 0 ? size_t(k) : 0);
+            at_ = 0;
+            return k > 0;
+        }
+    }
+    const std::string* bytes_ = nullptr;
+    int fd_ = -1;
+    std::string buffer_;
     size_t at_ = 0;
 };
 
-/// Writes all of `bytes` to `fd` (retrying on EINTR and short writes).
-bool write_all(int fd, const std::string& bytes) {
-    for (size_t done = 0; done < bytes.size();) {
-        const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) return false;
-        done += size_t(n);
-    }
-    return true;
-}
-
-/// The child: import, reply, and leave without running the parent's atexit handlers or
-/// destructors (they belong to the parent). A crash lands in the default handler: no report.
-[[noreturn]] void run_child(const std::string& path, int fd) {
-    for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL}) std::signal(sig, SIG_DFL);
-    Writer w;
-    w.pod(magic);
-    try {
-        const Scene scene = import_assimp(path);
-        w.pod(Reply::scene);
-        w.bytes() += serialize_scene(scene);
-    } catch (const std::bad_alloc&) {
-        w.bytes().resize(sizeof magic);
-        w.pod(Reply::error);
-        w.string(path + ": out of memory while importing");
-    } catch (const std::exception& e) {
-        w.bytes().resize(sizeof magic);
-        w.pod(Reply::error);
-        w.string(e.what());
-    } catch (...) {
-        w.bytes().resize(sizeof magic);
-        w.pod(Reply::error);
-        w.string(path + ": the importer (assimp) failed on this file");
-    }
-    _exit(write_all(fd, w.bytes()) ? 0 : 3);
-}
-
-}  // namespace
-
-std::string serialize_scene(const Scene& s) {
-    Writer w;
+void write_scene(Writer& w, const Scene& s) {
     w.string(s.name);
     w.vector(s.vertices);
     w.vector(s.triangles);
@@ -142,11 +186,9 @@ std::string serialize_scene(const Scene& s) {
     w.pod(uint8_t(s.camera.has_value()));
     if (s.camera) w.pod(*s.camera);
     w.pod(s.background);
-    return std::move(w.bytes());
 }
 
-Scene deserialize_scene(const std::string& bytes) {
-    Reader r(bytes);
+Scene read_scene(Reader& r) {
     Scene s;
     s.name = r.string();
     s.vertices = r.vector<Vec3f>();
@@ -166,13 +208,72 @@ Scene deserialize_scene(const std::string& bytes) {
     s.lights = r.vector<Light>();
     if (r.pod<uint8_t>()) s.camera = r.pod<Camera>();
     s.background = r.pod<Vec3f>();
-    if (!r.done()) throw Error("assimp sandbox: malformed reply");
+    return s;
+}
+
+/// The child: import, then reply (nothing is sent before the import finished), and leave
+/// without running the parent's atexit handlers or destructors (they belong to the parent). A
+/// crash lands in the default handler: the parent sees the signal, nobody prints a report.
+[[noreturn]] void run_child(const std::string& path, int fd) {
+    for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL}) std::signal(sig, SIG_DFL);
+    std::string error;
+    try {
+        const Scene scene = import_assimp(path);
+        Writer w(fd);
+        w.pod(magic);
+        w.pod(Reply::scene);
+        write_scene(w, scene);
+        _exit(w.flush() ? 0 : 3);
+    } catch (const std::bad_alloc&) {
+        error = path + ": out of memory while importing";
+    } catch (const std::exception& e) {
+        error = e.what();
+    } catch (...) {
+        error = path + ": the importer (assimp) failed on this file";
+    }
+    Writer w(fd);
+    w.pod(magic);
+    w.pod(Reply::error);
+    w.string(error);
+    _exit(w.flush() ? 0 : 3);
+}
+
+/// Waits for the child; throws rtt::Error naming `path` unless it exited with status 0.
+void reap(pid_t pid, const std::string& path) {
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    if (WIFSIGNALED(status))
+        throw Error(path, 0,
+                    "the importer (assimp) crashed on this file (signal " +
+                        std::to_string(WTERMSIG(status)) + "); the file is malformed or not supported");
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        throw Error(path, 0, "the importer (assimp) failed on this file (exit status " +
+                                 std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")");
+}
+
+}  // namespace
+
+std::string serialize_scene(const Scene& scene) {
+    std::string bytes;
+    {
+        Writer w(bytes);
+        write_scene(w, scene);
+    }
+    return bytes;
+}
+
+Scene deserialize_scene(const std::string& bytes) {
+    Reader r(bytes);
+    Scene s = read_scene(r);
+    if (!r.at_end()) throw Error("assimp sandbox: malformed reply");
     return s;
 }
 
 Scene import_assimp_isolated(const std::string& path) {
     int fds[2];
-    if (pipe(fds) != 0) throw Error(path, 0, std::string("cannot create a pipe: ") + std::strerror(errno));
+    if (pipe(fds) != 0)
+        throw Error(path, 0, std::string("cannot create a pipe: ") + std::strerror(errno));
     const pid_t pid = fork();
     if (pid < 0) {
         const int err = errno;
@@ -185,30 +286,27 @@ Scene import_assimp_isolated(const std::string& path) {
         run_child(path, fds[1]);
     }
     close(fds[1]);
-    std::string reply;
-    char buffer[1 << 16];
-    for (;;) {
-        const ssize_t n = ::read(fds[0], buffer, sizeof buffer);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) break;
-        reply.append(buffer, size_t(n));
+    // The scene is read while the child writes it. If the reply breaks off, the child's exit
+    // status says why.
+    Reader r(fds[0]);
+    Scene scene;
+    std::optional<std::string> error;
+    bool complete = false;
+    try {
+        if (r.pod<uint32_t>() != magic) throw Error("assimp sandbox: no reply");
+        if (r.pod<Reply>() == Reply::error)
+            error = r.string();
+        else
+            scene = read_scene(r);
+        complete = r.at_end();
+    } catch (const Error&) {
+        complete = false;
     }
     close(fds[0]);
-    int status = 0;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
-    if (WIFSIGNALED(status))
-        throw Error(path, 0,
-                    "the importer (assimp) crashed on this file (signal " +
-                        std::to_string(WTERMSIG(status)) + "); the file is malformed or not supported");
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-        throw Error(path, 0, "the importer (assimp) failed on this file (exit status " +
-                                 std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")");
-    Reader r(reply);
-    if (reply.size() < sizeof(uint32_t) + 1 || r.pod<uint32_t>() != magic)
-        throw Error(path, 0, "the importer (assimp) gave no answer");
-    if (r.pod<Reply>() == Reply::error) throw Error(r.string());
-    return deserialize_scene(reply.substr(sizeof(uint32_t) + 1));
+    reap(pid, path);
+    if (!complete) throw Error(path, 0, "the importer (assimp) gave a truncated answer");
+    if (error) throw Error(*error);
+    return scene;
 }
 
 }  // namespace rtt::detail
