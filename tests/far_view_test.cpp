@@ -61,6 +61,12 @@ TEST(FarView, ShadowsSeenFrom990Away) {
     expect_all_agree_with_brute(fuzz_box(), "22,990,00777,0,1,1,01,0,8,.000006");
 }
 
+// fuzz/corpus/fuzz_cli_values/camera_5720_away_rtt_miss: a sample the corner traversal of
+// "rtt" and "rtt-paper" missed (tile (0,0) sample 15, triangle 3 at t 5718.565).
+TEST(FarView, HitSeenFrom5720Away) {
+    expect_all_agree_with_brute(fuzz_box(), "22,-990,05633,0,1,1,01,0,8,.000007");
+}
+
 TEST(FarView, OtherFarCameras) {
     for (const char* camera : {"22,9990,5637,1,1,1,0,0,8,.00002", "-3e4,2e4,1e4,-1,1,-1,0,1,0,.0001",
                                "1e5,1e5,1e5,1,1,1,0,1,0,.00001", "3e3,-2e3,1e3,0,0,0,0,0,1,.001"})

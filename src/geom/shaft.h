@@ -189,6 +189,18 @@ struct ShaftRegion {
         use_slab = true;
         load_slab();
     }
+    /// The region of the same shaft and start ending at offset o_hi instead, and on the
+    /// positive side of n . (x - org) >= c when `n` is given (else without that half-space):
+    /// the cone is kept, only the slab changes.
+    void set_end(float o_hi, const Vec3f* n, float c) {
+        c_[1] = -o_hi;
+        n_[2][0] = n ? n->x : 0.f;
+        n_[2][1] = n ? n->y : 0.f;
+        n_[2][2] = n ? n->z : 0.f;
+        c_[2] = n ? c : -1.f;
+        use_slab = true;
+        load_slab();
+    }
     RTT_FORCEINLINE bool meets(const BoxV& box) const {
         using vf = vfloat4;
         const vf dlo = box.lo - org, dhi = box.hi - org;

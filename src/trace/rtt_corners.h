@@ -1,4 +1,5 @@
-// RTT's corner traversal (paper section 3, ALGORITHM.md steps 1-2): the 4 corner rays of a
+// RTT's corner traversal (paper section 3, ALGORITHM.md steps 1-2), used by "rtt-paper" ("rtt"
+// walks the shaft instead, rtt_cull.h, and shares the types below): the 4 corner rays of a
 // shaft go through the kd-tree as one SSE packet, with trace_ray's semantics per lane (they are
 // answers too), and every triangle of every leaf they reach is put through the shaft's five
 // conservative tests (geom/shaft.h) to build the tile's relevant list.

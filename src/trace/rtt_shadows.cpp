@@ -2,6 +2,7 @@
 #include <bit>
 #include <cmath>
 
+#include "trace/rtt_cull.h"
 #include "trace/rtt_inner.h"
 #include "trace/rtt_tracer.h"
 #include "trace/trace_packet.h"
@@ -43,6 +44,20 @@ void RttTracer::occluded(const SegmentTile& tile, std::span<uint8_t> visible, Tr
     if (stats) *stats += st;
 }
 
+namespace {
+
+/// True when the end point L + w of a segment lies on the light's side of the receiver plane
+/// or within `tol` beyond it: v = n.w + H, with its rounding (answer_shadows' check, one ray).
+bool near_receiver(const FacingPlane& receiver, float tol, const Vec3f& w) {
+    const float nx = receiver.n.x * w.x, ny = receiver.n.y * w.y, nz = receiver.n.z * w.z;
+    const float v = ((nx + ny) + nz) + receiver.h;
+    const float err =
+        8.f * unit_roundoff * (((std::fabs(nx) + std::fabs(ny)) + std::fabs(nz)) + receiver.h);
+    return v - err >= -tol;
+}
+
+}  // namespace
+
 void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visible,
                                std::span<SampleAnswer> answers, TraceStats& st) const {
     const int n = int(tile.points.size());
@@ -65,16 +80,36 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
     ShaftRegion region(shaft, tree_.bounds, shaft.start_lo, shaft.end_hi);
     region.add_end_plane(receiver.n, -tmax * (receiver.h + receiver_tol) * (1.f + 0x1p-20f));
     CornerResult& res = tls_corners;
-    CornerStatus status =
-        trace_corners<true>(tree_, triangles_, shaft, &region, corners, tls_mailbox, res);
-    if (status == CornerStatus::untraced) {
-        RayPacket<4> p;
-        for (int i = 0; i < 4; ++i) p.set(i, corners[i]);
-        res.occluded = occluded_packet<4>(tree_, triangles_, p, 0xF);
+    CornerStatus status;
+    if (extended_) {
+        // The region is final from the start: one walk through it (rtt_cull.h) answers the
+        // corners and builds the list. The corners' answers come from the region, so their
+        // points must pass the receiver check the inner ones pass (a point computed far from
+        // the scene may lie off the plane by more than the tolerance). A walk that gives up
+        // leaves the whole tile to packets.
+        for (int i = 0; i < 4; ++i)
+            if (!near_receiver(receiver, receiver_tol, corners[i].dir)) {
+                occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
+                return;
+            }
+        status =
+            cull_shaft<true>(tree_, triangles_, shaft, region, cull_budget(n), tls_mailbox, res,
+                             [](const PacketHit<4>&, ShaftRegion&) { return Narrowed::same; });
+        if (status == CornerStatus::untraced) {
+            occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
+            return;
+        }
+    } else {
+        status = trace_corners<true>(tree_, triangles_, shaft, &region, corners, tls_mailbox, res);
+        if (status == CornerStatus::untraced) {
+            RayPacket<4> p;
+            for (int i = 0; i < 4; ++i) p.set(i, corners[i]);
+            res.occluded = occluded_packet<4>(tree_, triangles_, p, 0xF);
+        }
     }
     for (int i = 0; i < 4; ++i)
         if (tile.active[cs[i]]) visible[cs[i]] = !((res.occluded >> i) & 1u);
-    if (status == CornerStatus::traced && (extended_ || res.coherent))
+    if (status == CornerStatus::traced && !extended_ && res.coherent)
         status = collect_deferred<true>(tree_, triangles_, shaft, region, deferred_budget(n),
                                         tls_mailbox, res);
     SampleBits need(n);

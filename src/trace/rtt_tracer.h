@@ -21,10 +21,17 @@ inline constexpr int inner_width = simd_max_width;
 /// Packet width of the fallback for rays RTT does not answer: the widest packets, whose
 /// tracer is the fastest (4x4 samples per packet with AVX-512).
 inline constexpr int fallback_width = simd_max_width;
-/// Nodes shaft culling may enter for a tile of n samples before RTT gives the tile up: its
-/// corners missed much of what the shaft crosses, and tracing is cheaper (measured at K = 1).
+/// Nodes shaft culling may enter for a tile of n samples before "rtt-paper" gives the tile up:
+/// its corners missed much of what the shaft crosses, and tracing is cheaper (measured at K = 1).
 inline constexpr int deferred_budget(int n) {
     return 8 + n;
+}
+/// Nodes the shaft walk of "rtt" (rtt_cull.h) may enter for a tile of n samples before it gives
+/// the tile up and traces it: at K = 1 about what one 16-wide packet visits for the whole tile
+/// (45.6 inner nodes and 12.7 leaves per 4x4 tile on room, 640x480), so RTT stops where it can
+/// no longer be cheaper than tracing. A cost rule, not an exactness one.
+inline constexpr int cull_budget(int n) {
+    return 48 + n;
 }
 inline constexpr float unit_roundoff = 0x1p-24f;
 
@@ -35,10 +42,11 @@ inline thread_local CornerResult tls_corners;
 
 class RttTracer final : public Tracer {
 public:
-    /// `extended` ("rtt"): answer tiles whose corners raised the paper's incoherence flag too
-    /// (their list is complete anyway, rtt_corners.h), and primary tiles whose corners hit
-    /// several triangles of one plane. false ("rtt-paper"): the paper's rules, coherent corners
-    /// on one triangle (shadows: coherent corners).
+    /// `extended` ("rtt"): corners and list from one shaft walk (rtt_cull.h), whatever the
+    /// paper's incoherence flag would say; primary tiles whose corners hit several triangles of
+    /// one plane (and, from 8x8 samples on, of several planes) are answered too. false
+    /// ("rtt-paper"): the paper's corner packet (rtt_corners.h) and rules, coherent corners on
+    /// one triangle (shadows: coherent corners).
     RttTracer(const Scene& scene, const KdTree& tree, bool extended)
         : tree_(tree),
           triangles_(gather_triangles(scene)),
@@ -64,8 +72,22 @@ private:
     void occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visible,
                         std::span<SampleAnswer> answers, TraceStats& st) const;
     bool one_receiver_plane(const SegmentTile& tile) const;
+    /// Where a primary shaft's region ends: the slab end of the 4 corner hits (t, tri) and the
+    /// plane they all lie on (plane_id = no_plane when they lie on several, or the apex is on
+    /// it).
+    struct PrimaryEnd {
+        uint32_t plane_id = no_plane;
+        FacingPlane plane;
+        float end_limit = 0.f, end_tol = 0.f;
+    };
+    /// False when some corner missed.
+    bool primary_end(const Shaft& shaft, const Ray (&corners)[4], const vfloat4& t,
+                     const vint4& tri, PrimaryEnd& e) const;
+    /// The region of e (primary_region) from a region of the same shaft and start.
+    void narrow_to(ShaftRegion& region, const PrimaryEnd& e) const;
+    ShaftRegion primary_region(const Shaft& shaft, const PrimaryEnd& e) const;
     uint64_t answer_primary(const RayTile& tile, const Shaft& s, const RelevantList& list,
-                            float end_limit, const FacingPlane& end, float end_tol,
+                            float end_limit, const FacingPlane* end, float end_tol,
                             std::span<Hit> hits, std::span<SampleAnswer> answers,
                             SampleBits& need) const;
     uint64_t answer_shadows(const SegmentTile& tile, const Shaft& s, const RelevantList& list,

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "trace/factories.h"
+#include "trace/rtt_cull.h"
 #include "trace/rtt_inner.h"
 #include "trace/rtt_tracer.h"
 #include "trace/trace_packet.h"
@@ -30,6 +31,44 @@ void RttTracer::intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* 
     if (stats) *stats += st;
 }
 
+/// The end of a primary shaft's region when all 4 corners hit triangles of one plane P seen
+/// from the apex (exact plane identity, geom/plane_id.h; the paper asks for one triangle): the
+/// inner rays end on P (or before). Along kz, P over the slope quad lies between the corners'
+/// hits (1 / offset is affine in the slope), so the region R = cone, offsets up to end_limit,
+/// apex side of P (+ end_tol) holds every inner segment up to its answer when that answer lies
+/// in R, which answer_primary checks per ray.
+bool RttTracer::primary_end(const Shaft& shaft, const Ray (&corners)[4], const vfloat4& t,
+                            const vint4& tri, PrimaryEnd& e) const {
+    e.plane_id = no_plane;
+    for (int i = 0; i < 4; ++i)
+        if (uint32_t(tri[i]) >= triangles_.size()) return false;  // a miss
+    float end = 0.f, dist = 0.f;
+    for (int i = 0; i < 4; ++i) {
+        end = std::max(end, t[i] * std::fabs(corners[i].dir[shaft.kz]));
+        dist = std::max(dist, t[i] * length(corners[i].dir));
+    }
+    e.end_limit = end * (1.f + 0x1p-10f);
+    const uint32_t plane = planes_.id[uint32_t(tri[0])];
+    for (int i = 1; i < 4; ++i)
+        if (plane == no_plane || planes_.id[uint32_t(tri[i])] != plane) return true;
+    if (!normals_.facing(plane, shaft.org, e.plane)) return true;
+    e.plane_id = plane;
+    e.end_tol = 0x1p-14f * (e.plane.h + dist);
+    return true;
+}
+
+void RttTracer::narrow_to(ShaftRegion& region, const PrimaryEnd& e) const {
+    const bool plane = e.plane_id != no_plane;
+    region.set_end(e.end_limit, plane ? &e.plane.n : nullptr,
+                   plane ? -(e.plane.h + e.end_tol) * (1.f + 0x1p-20f) : 0.f);
+}
+
+ShaftRegion RttTracer::primary_region(const Shaft& shaft, const PrimaryEnd& e) const {
+    ShaftRegion region(shaft, tree_.bounds, shaft.start_lo, e.end_limit);
+    narrow_to(region, e);
+    return region;
+}
+
 void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
                                 std::span<SampleAnswer> answers, TraceStats& st) const {
     const int n = int(tile.rays.size());
@@ -41,65 +80,107 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         return;
     }
     CornerResult& res = tls_corners;
-    CornerStatus status =
-        trace_corners<false>(tree_, triangles_, shaft, nullptr, corners, tls_mailbox, res);
-    if (status == CornerStatus::untraced) {
-        RayPacket<4> p;
-        for (int i = 0; i < 4; ++i) p.set(i, corners[i]);
-        trace_packet<4>(tree_, triangles_, p, 0xF, res.hit);
+    PrimaryEnd end;
+    bool listed = false;
+    if (extended_) {
+        // One walk through the shaft (rtt_cull.h), narrowed as the corners' hits come nearer.
+        // Each region must contain the next one (rtt_cull.h): the end offset and tolerance
+        // only shrink with the hits.
+        //  * When the 4 hits first lie on one plane P, R narrows to P, and the walk gives up
+        //    if the hits later move to another plane (the regions of two planes need not nest
+        //    once the slope quad is grown): the whole tile is traced.
+        //  * When they first lie on several planes, tiles of 4x4 samples (K = 1) give up at
+        //    once (cheaper than finishing the walk and tracing the inner rays after it); larger
+        //    tiles narrow the slab's end only, and answer inner rays within the slab (an
+        //    object's silhouette over a wall: nearly all of them), which saves far more than
+        //    the longer walk and list cost from K = 3 on (measured on room; at K = 2 it is a
+        //    loss).
+        const bool slab_allowed = n > 64;
+        ShaftRegion region(shaft, tree_.bounds, shaft.start_lo, pos_inf);
+        uint32_t plane = no_plane;
+        bool slab_only = false;
+        const auto narrow = [&](const PacketHit<4>& best, ShaftRegion& r) {
+            PrimaryEnd e;
+            if (!primary_end(shaft, corners, best.t, best.tri, e)) return Narrowed::same;
+            if (plane == no_plane && !slab_only) {
+                if (e.plane_id == no_plane && !slab_allowed) return Narrowed::abandon;
+                slab_only = e.plane_id == no_plane;
+                plane = e.plane_id;
+            }
+            if (slab_only) e.plane_id = no_plane;  // the slab's end only
+            if (e.plane_id != plane) return Narrowed::abandon;
+            narrow_to(r, e);
+            return Narrowed::smaller;
+        };
+        const CornerStatus status = cull_shaft<false>(tree_, triangles_, shaft, region,
+                                                      cull_budget(n), tls_mailbox, res, narrow);
+        if (status == CornerStatus::untraced) {
+            trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
+            return;
+        }
+        for (int i = 0; i < 4; ++i) hits[cs[i]] = res.hit[i];
+        alignas(16) float t[4];
+        alignas(16) int32_t tri[4];
+        for (int i = 0; i < 4; ++i) {
+            t[i] = res.hit[i].t;
+            tri[i] = int32_t(res.hit[i].tri);
+        }
+        listed = primary_end(shaft, corners, vfloat4::load(t), vint4::load(tri), end) &&
+                 (slab_only || end.plane_id != no_plane);
+    } else {
+        CornerStatus status =
+            trace_corners<false>(tree_, triangles_, shaft, nullptr, corners, tls_mailbox, res);
+        if (status == CornerStatus::untraced) {
+            RayPacket<4> p;
+            for (int i = 0; i < 4; ++i) p.set(i, corners[i]);
+            trace_packet<4>(tree_, triangles_, p, 0xF, res.hit);
+        }
+        for (int i = 0; i < 4; ++i) hits[cs[i]] = res.hit[i];
+        const bool one_triangle = res.hit[1].tri == res.hit[0].tri &&
+                                  res.hit[2].tri == res.hit[0].tri &&
+                                  res.hit[3].tri == res.hit[0].tri;
+        alignas(16) float t[4];
+        alignas(16) int32_t tri[4];
+        for (int i = 0; i < 4; ++i) {
+            t[i] = res.hit[i].t;
+            tri[i] = int32_t(res.hit[i].tri);
+        }
+        listed =
+            status == CornerStatus::traced && one_triangle && res.coherent &&
+            primary_end(shaft, corners, vfloat4::load(t), vint4::load(tri), end) &&
+            end.plane_id != no_plane &&
+            collect_deferred<false>(tree_, triangles_, shaft, primary_region(shaft, end),
+                                    deferred_budget(n), tls_mailbox, res) == CornerStatus::traced;
     }
-    for (int i = 0; i < 4; ++i) hits[cs[i]] = res.hit[i];
 
     SampleBits need(n);
-    uint64_t answered = 0;
-    bool listed = false;
-    // The paper asks the 4 corners to hit one triangle T. Exact plane identity allows any
-    // triangles of one plane P: the inner rays end on P (or before). Along kz, P over the slope
-    // quad lies between the corners' hits (1 / offset is affine in the slope), so the region
-    // R = cone, offsets up to end_limit, apex side of P (+ end_tol) holds every inner segment
-    // up to its answer when that answer lies in R, which answer_primary checks per ray.
-    const uint32_t plane = res.hit[0].valid() ? planes_.id[res.hit[0].tri] : no_plane;
-    const bool one_plane = plane != no_plane && res.hit[1].valid() && res.hit[2].valid() &&
-                           res.hit[3].valid() && planes_.id[res.hit[1].tri] == plane &&
-                           planes_.id[res.hit[2].tri] == plane &&
-                           planes_.id[res.hit[3].tri] == plane;
-    FacingPlane end_plane;
-    const bool one_triangle = res.hit[1].tri == res.hit[0].tri &&
-                              res.hit[2].tri == res.hit[0].tri && res.hit[3].tri == res.hit[0].tri;
-    const bool qualifies = extended_ ? one_plane : (one_plane && one_triangle && res.coherent);
-    if (qualifies && status == CornerStatus::traced &&
-        normals_.facing(plane, shaft.org, end_plane)) {
-        float end = 0.f, dist = 0.f;
-        for (int i = 0; i < 4; ++i) {
-            end = std::max(end, res.hit[i].t * std::fabs(corners[i].dir[shaft.kz]));
-            dist = std::max(dist, res.hit[i].t * length(corners[i].dir));
+    if (listed) {
+        // "Beyond the end" (shaft.h test (d)): a triangle whose vertices all lie beyond
+        // end_limit along kz cannot be hit inside R; nor can one whose bounding box misses R
+        // (the walk's own rule, rtt_cull.h; the walk may have listed it under a larger region).
+        RelevantList& list = res.list;
+        const ShaftRegion region = primary_region(shaft, end);
+        int kept = 0;
+        for (int j = 0; j < list.count; ++j) {
+            const TriangleVerts& tri = triangles_[list.tri[j]];
+            BoxV box;
+            box.lo = min(min(BoxV::lanes(tri.v0), BoxV::lanes(tri.v1)), BoxV::lanes(tri.v2));
+            box.hi = max(max(BoxV::lanes(tri.v0), BoxV::lanes(tri.v1)), BoxV::lanes(tri.v2));
+            if (!(list.min_offset[j] * (1.f - 16.f * unit_roundoff) >
+                  end.end_limit * (1.f + 4.f * unit_roundoff)) &&
+                region.meets(box)) {
+                list.tri[kept] = list.tri[j];
+                list.min_offset[kept++] = list.min_offset[j];
+            }
         }
-        const float end_limit = end * (1.f + 0x1p-10f);
-        const float end_tol = 0x1p-14f * (end_plane.h + dist);
-        ShaftRegion region(shaft, tree_.bounds, shaft.start_lo, end_limit);
-        region.add_end_plane(end_plane.n, -(end_plane.h + end_tol) * (1.f + 0x1p-20f));
-        if (collect_deferred<false>(tree_, triangles_, shaft, region, deferred_budget(n),
-                                    tls_mailbox, res) == CornerStatus::traced) {
-            // "Beyond the end" (shaft.h test (d)): a triangle whose vertices all lie beyond
-            // end_limit along kz cannot be hit inside R.
-            RelevantList& list = res.list;
-            int kept = 0;
-            for (int j = 0; j < list.count; ++j)
-                if (!(list.min_offset[j] * (1.f - 16.f * unit_roundoff) >
-                      end_limit * (1.f + 4.f * unit_roundoff))) {
-                    list.tri[kept] = list.tri[j];
-                    list.min_offset[kept++] = list.min_offset[j];
-                }
-            list.count = kept;
-            answered = answer_primary(tile, shaft, list, end_limit, end_plane, end_tol, hits,
-                                      answers, need);
-            st.rtt_tiles += 1;
-            st.relevant_sum += uint64_t(list.count);
-            st.answered += answered;
-            listed = true;
-        }
-    }
-    if (!listed) {
+        list.count = kept;
+        const uint64_t answered = answer_primary(tile, shaft, list, end.end_limit,
+                                                 end.plane_id != no_plane ? &end.plane : nullptr,
+                                                 end.end_tol, hits, answers, need);
+        st.rtt_tiles += 1;
+        st.relevant_sum += uint64_t(list.count);
+        st.answered += answered;
+    } else {
         for (int s = 0; s < n; ++s)
             if (s != cs[0] && s != cs[1] && s != cs[2] && s != cs[3]) need.set(s);
     }
@@ -116,7 +197,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
 }
 
 uint64_t RttTracer::answer_primary(const RayTile& tile, const Shaft& s, const RelevantList& list,
-                                   float end_limit, const FacingPlane& end, float end_tol,
+                                   float end_limit, const FacingPlane* end, float end_tol,
                                    std::span<Hit> hits, std::span<SampleAnswer> answers,
                                    SampleBits& need) const {
     constexpr int K = inner_width;
@@ -138,14 +219,16 @@ uint64_t RttTracer::answer_primary(const RayTile& tile, const Shaft& s, const Re
               (t * abs(vf::load(b.dir[s.kz])) <= vf(end_limit));
         // g is affine along the ray: checking the answer and the start (reflected rays start
         // away from the apex) covers the whole segment.
-        const Vec3v<K> d = b.direction();
-        const vf nx = vf(end.n.x) * d.x, ny = vf(end.n.y) * d.y, nz = vf(end.n.z) * d.z;
-        const vf nd = (nx + ny) + nz, and_ = (abs(nx) + abs(ny)) + abs(nz);
-        const vf t0 = vf::load(b.tmin);
-        const vf g = vf(end.h) + t * nd, g0 = vf(end.h) + t0 * nd;
-        const vf err = vf(8.f * unit_roundoff) * (vf(end.h) + t * and_);
-        const vf err0 = vf(8.f * unit_roundoff) * (vf(end.h) + t0 * and_);
-        ok &= (g - err >= vf(-end_tol)) & (g0 - err0 >= vf(-end_tol));
+        if (end) {
+            const Vec3v<K> d = b.direction();
+            const vf nx = vf(end->n.x) * d.x, ny = vf(end->n.y) * d.y, nz = vf(end->n.z) * d.z;
+            const vf nd = (nx + ny) + nz, and_ = (abs(nx) + abs(ny)) + abs(nz);
+            const vf t0 = vf::load(b.tmin);
+            const vf g = vf(end->h) + t * nd, g0 = vf(end->h) + t0 * nd;
+            const vf err = vf(8.f * unit_roundoff) * (vf(end->h) + t * and_);
+            const vf err0 = vf(8.f * unit_roundoff) * (vf(end->h) + t0 * and_);
+            ok &= (g - err >= vf(-end_tol)) & (g0 - err0 >= vf(-end_tol));
+        }
         const uint32_t good = movemask(ok);
         for (int l = 0; l < b.count; ++l) {
             const int smp = b.sample[l];

@@ -2,26 +2,31 @@
 // ALGORITHM.md "RTT for a tile") behind the Tracer interface. The exactness argument is in
 // docs/design.md, "RTT exactness".
 //
-// Per tile with shaft = true:
-//  1. A shaft is made from the 4 corner rays (geom/shaft.h); the corners are traced as one SSE
-//     packet with trace_ray's semantics (they are answers too), every triangle of every leaf
-//     they reach goes through the five conservative tests, and the nodes they leave out are
-//     kept for shaft culling (rtt_corners.h).
-//  2. Primary and reflected tiles (intersect): when all 4 corners hit triangles of one plane P
-//     (exact plane identity, geom/plane_id.h; the paper asks for one triangle), the list is
-//     completed by shaft culling of the region ending at P, and the inner rays are intersected
-//     with it K at a time (rtt_inner.h). An inner answer is taken when the ray passes the shaft
-//     check and its answer lies inside the covered region; any other inner ray is traced.
+// Per tile with shaft = true, "rtt":
+//  1. A shaft is made from the 4 corner rays (geom/shaft.h). One front-to-back walk of the
+//     kd-tree through the shaft (rtt_cull.h) enters the nodes whose box may meet the region R of
+//     the rays answered from the list; every triangle of every leaf it enters goes through the
+//     corners' watertight tests (the corners are answers too, trace_ray's) and the five
+//     conservative tests. The corners' hits narrow R as the walk goes.
+//  2. Primary and reflected tiles (intersect): R ends on the plane P of the corners' hits (exact
+//     plane identity, geom/plane_id.h; the paper asks for one triangle). Tiles above 8x8
+//     samples whose corners hit several planes take R up to the farthest hit's offset, without
+//     P. Corners on several planes in a 4x4-sample tile, or a walk that would enter more nodes
+//     than tracing the tile costs, end RTT for the tile at once: it is traced by 16-wide
+//     packets. Otherwise the inner rays are intersected with the list K at a time
+//     (rtt_inner.h); an inner answer is taken when the ray passes the shaft check and its
+//     answer lies inside R; any other inner ray is traced.
 //  3. Shadow tiles (occluded): when every sample of the tile hit a triangle of one plane and the
-//     light is not on it (exact orientation), the region ends at that plane: an empty list means
-//     visible, a whole-tile occluder (CornerVerdict::blocks_all) blocked, otherwise each inner
-//     segment is tested against the list (any hit).
-// Everything else (tiles without shaft, corners on several planes, a region whose culling would
-// cost more than tracing, inner rays failing a check) is traced by the SIMD packet tracer, so
-// answers always equal trace_ray's, ray for ray.
+//     light is not on it (exact orientation), R ends at that plane and is known before the walk:
+//     an empty list means visible, a whole-tile occluder (CornerVerdict::blocks_all) blocked,
+//     otherwise each inner segment is tested against the list (any hit).
+// Everything else (tiles without shaft, inner rays failing a check) is traced by the SIMD
+// packet tracer, so answers always equal trace_ray's, ray for ray.
 //
-// "rtt-paper" keeps the paper's rules instead: the corners must be coherent (rtt_corners.h) and,
-// for primary rays, hit one triangle.
+// "rtt-paper" keeps the paper's procedure and rules instead: the corners go through the tree as
+// one SSE packet with the incoherence flag (rtt_corners.h), the nodes they leave out are shaft
+// culled afterwards (collect_deferred), and a tile is answered only when the corners stayed
+// coherent and, for primary rays, hit one triangle.
 //
 // Statistics: traced = corner rays and segments plus fallbacks, answered = rays answered from a
 // list; rays = traced + answered (for shadows only active segments count; the corners of a

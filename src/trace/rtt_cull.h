@@ -1,0 +1,284 @@
+// RTT by shaft culling (the "rtt" tracer; "rtt-paper" keeps the corner traversal of
+// rtt_corners.h): the tile's relevant list and its 4 corners' answers come from ONE front-to-back
+// walk of the kd-tree that enters exactly the nodes whose box may meet the region R of the rays
+// answered from the list (ShaftRegion: the shaft's cone, the slab of kz offsets between their
+// starts and ends, and the plane they end on). Every triangle of every entered leaf goes through
+// the corners' watertight tests and the five conservative tests (test_corners).
+//
+// Why the list is complete and the corners exact. A triangle an accepted ray hits within its
+// interval meets R (shaft.h, PlaneSet's tolerance covers the float test's fuzz), hence meets the
+// box of a leaf listing it, and every ancestor of that leaf: a walk that enters each node whose
+// box may meet R tests it. The corners are accepted rays, so the same holds for every triangle a
+// corner hits before its current closest hit: the corners get trace_ray's (brute force's)
+// answers, as in rtt_corners.h (a superset of the leaves trace_ray visits).
+//
+// Closest hits do not know R's end before the corners have hit something. The walk starts with
+// the region of the shaft without an end and narrows it whenever a leaf shortened a corner
+// (`narrow`, called with the corners' closest hits so far): the end offset only decreases
+// (hits only come nearer) and the end plane is the plane of the 4 current hits. Every region
+// used so far contains the final one (the plane is kept only if the final hits stay on it, and
+// a nearer hit on that plane's apex side keeps the points before it there), so the nodes left
+// out were outside the final R too. The walk is front to back (the child on the apex's side of
+// a split first): nearer hits come first and the region narrows early.
+//
+// Node test. The test is ShaftRegion::meets, the same products and sums for 8 half-spaces at
+// once (cone in lanes 0-3, slab and end plane in 4-7), done incrementally: a child's box differs
+// from its parent's in one coordinate, so only the split axis's terms n_a (x_a - org_a) change.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <span>
+
+#include "geom/shaft.h"
+#include "geom/triangle_simd.h"
+#include "rtt/kdtree.h"
+#include "simd/simd.h"
+#include "trace/rtt_corners.h"
+
+namespace rtt {
+
+/// What `narrow` decided after the corners' hits changed.
+enum class Narrowed {
+    same,     ///< Region unchanged.
+    smaller,  ///< The region argument was replaced by one contained in the previous one.
+    abandon,  ///< The tile will not be answered from a list: stop, nothing is answered.
+};
+
+/// The region's 8 half-spaces, lane l of n[a] / limit (ShaftRegion's cone and slab lanes).
+struct CullPlanes {
+    alignas(32) float n[3][8];
+    alignas(32) float limit[8];
+
+    void load(const ShaftRegion& r) {
+        for (int l = 0; l < 4; ++l) {
+            n[0][l] = r.cone.nx[l];
+            n[1][l] = r.cone.ny[l];
+            n[2][l] = r.cone.nz[l];
+            limit[l] = r.cone.limit[l];
+            n[0][4 + l] = r.slab.nx[l];
+            n[1][4 + l] = r.slab.ny[l];
+            n[2][4 + l] = r.slab.nz[l];
+            // Without a slab every lane of it passes (ShaftRegion::use_slab).
+            limit[4 + l] = r.use_slab ? r.slab.limit[l] : neg_inf;
+        }
+    }
+};
+
+/// Walks the kd-tree through the shaft (file comment). The corners of `shaft` are traced as
+/// test_corners traces them: AnyHit = false closest hits (out.hit), true occluded segments
+/// (out.occluded, to their ends unless one triangle blocks them all). `region` must hold every
+/// point of every accepted ray up to its answer (AnyHit: to its end); `narrow(best, region)`
+/// (closest hits only) may replace it by a smaller one after the corners' hits changed.
+/// Returns
+///   traced:   corners answered; out.list holds every triangle an accepted ray can hit in the
+///             last region;
+///   blocked:  (AnyHit) out.blocker blocks every accepted segment; corners answered;
+///   overflow: (AnyHit) all 4 corners blocked, by different triangles; corners answered, no list;
+///   untraced: gave up (more than `budget` nodes, a full list, or `narrow` said so): nothing
+///             is answered, not even the corners.
+template <bool AnyHit, typename Narrow>
+CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> triangles,
+                        const Shaft& shaft, ShaftRegion& region, int budget,
+                        TriangleMailbox& mailbox, CornerResult& out, Narrow&& narrow) {
+    constexpr int W = simd_max_width >= 8 ? 8 : 4;  // lanes per vector
+    constexpr int C = 8 / W;                        // vectors per 8 half-spaces
+    using vf = vfloat<W>;
+    using vf4 = vfloat4;
+    out.list.count = 0;
+    out.deferred.count = 0;
+    out.occluded = 0;
+    out.coherent = true;
+    for (Hit& h : out.hit) h = Hit{};
+    mailbox.begin(triangles.size());
+    if (tree.nodes.empty()) return CornerStatus::traced;
+
+    CullPlanes planes;
+    planes.load(region);
+    vf n[3][C], limit[C];
+    const auto load_planes = [&] {
+        for (int c = 0; c < C; ++c) {
+            for (int a = 0; a < 3; ++a) n[a][c] = vf::load(planes.n[a] + c * W);
+            limit[c] = vf::load(planes.limit + c * W);
+        }
+    };
+    load_planes();
+    const float org[3] = {shaft.org.x, shaft.org.y, shaft.org.z};
+    // lo[a], hi[a]: n_a (box.lo_a - org_a), n_a (box.hi_a - org_a) per half-space.
+    struct Terms {
+        vf lo[3][C], hi[3][C];
+    };
+    const vf4 org4 = BoxV::lanes(shaft.org);
+    const auto terms_of = [&](const vf4& blo, const vf4& bhi, Terms& t) {
+        const vf4 dlo = blo - org4, dhi = bhi - org4;
+        for (int a = 0; a < 3; ++a)
+            for (int c = 0; c < C; ++c) {
+                t.lo[a][c] = n[a][c] * vf(dlo[a]);
+                t.hi[a][c] = n[a][c] * vf(dhi[a]);
+            }
+    };
+    // Whether all half-spaces may meet the box of terms t (ShaftRegion::meets' sums).
+    const auto meets = [&](const Terms& t) {
+        bool in = true;
+        for (int c = 0; c < C; ++c) {
+            const vf best = (max(t.lo[0][c], t.hi[0][c]) + max(t.lo[1][c], t.hi[1][c])) +
+                            max(t.lo[2][c], t.hi[2][c]);
+            in &= movemask(best >= limit[c]) == all_lanes<W>;
+        }
+        return in;
+    };
+    const auto box_meets = [&](const vf4& blo, const vf4& bhi) {
+        Terms t;
+        terms_of(blo, bhi, t);
+        return meets(t);
+    };
+    // The same for a triangle's bounding box, from scalars (no vector built in memory).
+    const auto triangle_meets = [&](const TriangleVerts& tri) {
+        Terms t;
+        for (int a = 0; a < 3; ++a) {
+            const float lo = std::min({tri.v0[a], tri.v1[a], tri.v2[a]}) - org[a];
+            const float hi = std::max({tri.v0[a], tri.v1[a], tri.v2[a]}) - org[a];
+            for (int c = 0; c < C; ++c) {
+                t.lo[a][c] = n[a][c] * vf(lo);
+                t.hi[a][c] = n[a][c] * vf(hi);
+            }
+        }
+        return meets(t);
+    };
+    struct Entry {
+        vf4 lo, hi;
+        uint32_t node;
+        uint32_t generation;  // region generation the box was tested with
+    };
+    Entry stack[kd_max_depth + 1];
+    int top = 0;
+    // Written and read field by field: whole-entry copies went through store-forwarding stalls
+    // (as in trace_packet.cpp).
+    const auto push = [&](const vf4& lo, const vf4& hi, uint32_t node, uint32_t gen) {
+        Entry& e = stack[top++];
+        e.lo = lo;
+        e.hi = hi;
+        e.node = node;
+        e.generation = gen;
+    };
+    uint32_t generation = 0;
+    const vbool4 axis_lane[3] = {vbool4::from_bits(1), vbool4::from_bits(2), vbool4::from_bits(4)};
+    const KdNode* nodes = tree.nodes.data();
+    const uint32_t* leaf_ids = tree.leaf_triangles.data();
+    PacketHit<4> best;
+    vf4 lane_tmax = vf4::load(shaft.tmax);
+
+    const BoxV root(tree.bounds);
+    if (!box_meets(root.lo, root.hi)) return CornerStatus::traced;  // nothing can be hit
+    push(root.lo, root.hi, 0, generation);
+    while (top > 0) {
+        --top;
+        vf4 blo = stack[top].lo, bhi = stack[top].hi;
+        uint32_t index = stack[top].node;
+        const bool retest = stack[top].generation != generation;
+        Terms t;
+        terms_of(blo, bhi, t);
+        if (retest && !meets(t)) continue;
+        // One inner node along axis A (a template, so that the terms stay in registers):
+        // false when neither child may meet the region. (The sums' order differs from
+        // ShaftRegion::meets for some axes: PlaneSet's tolerance covers any order.)
+        const auto step = [&]<int A>(const KdNode& node) {
+            constexpr int A1 = (A + 1) % 3, A2 = (A + 2) % 3;
+            const float split = node.split;
+            const float dv = split - org[A];
+            bool below_in = true, above_in = true;
+            vf v[C];
+            for (int c = 0; c < C; ++c) {
+                v[c] = n[A][c] * vf(dv);
+                const vf others = max(t.lo[A1][c], t.hi[A1][c]) + max(t.lo[A2][c], t.hi[A2][c]);
+                below_in &= movemask(others + max(t.lo[A][c], v[c]) >= limit[c]) == all_lanes<W>;
+                above_in &= movemask(others + max(v[c], t.hi[A][c]) >= limit[c]) == all_lanes<W>;
+            }
+            // The apex's side first: along every ray from the apex, the points on that side of
+            // the split come before those on the other.
+            const bool below_first = org[A] <= split;
+            const vf4 vsplit(split);
+            const uint32_t below = index + 1, above = node.above_child();
+            if (below_in && above_in) {
+                if (below_first)
+                    push(select(axis_lane[A], vsplit, blo), bhi, above, generation);
+                else
+                    push(blo, select(axis_lane[A], vsplit, bhi), below, generation);
+            } else if (!below_in && !above_in) {
+                return false;
+            }
+            if (below_in && (below_first || !above_in)) {
+                bhi = select(axis_lane[A], vsplit, bhi);
+                for (int c = 0; c < C; ++c) t.hi[A][c] = v[c];
+                index = below;
+            } else {
+                blo = select(axis_lane[A], vsplit, blo);
+                for (int c = 0; c < C; ++c) t.lo[A][c] = v[c];
+                index = above;
+            }
+            return true;
+        };
+        for (;;) {
+            if (--budget < 0) return CornerStatus::untraced;
+            const KdNode& node = nodes[index];
+            if (node.is_leaf()) break;
+            const int axis = node.axis();
+            const bool entered = axis == 0   ? step.template operator()<0>(node)
+                                 : axis == 1 ? step.template operator()<1>(node)
+                                             : step.template operator()<2>(node);
+            if (!entered) {
+                index = invalid_triangle;
+                break;
+            }
+        }
+        if (index == invalid_triangle) continue;
+        const KdNode& leaf = nodes[index];
+        const uint32_t* ids = leaf_ids + leaf.first_triangle();
+        bool shortened = false;
+        for (uint32_t k = 0, count = leaf.triangle_count(); k < count; ++k) {
+            const uint32_t id = ids[k];
+            if (mailbox.seen(id)) continue;
+            const TriangleVerts& tri = triangles[id];
+            // A triangle whose box misses the region cannot be hit by an accepted ray, nor by a
+            // corner before its current hit (the region only shrinks: it stays missed).
+            if (!triangle_meets(tri)) continue;
+            const CornerVerdict cv = test_corners<AnyHit>(shaft, tri, lane_tmax);
+            if constexpr (AnyHit) {
+                out.occluded |= cv.hit;
+                if (cv.blocks_all) {
+                    out.blocker = id;
+                    out.occluded = 0xF;
+                    return CornerStatus::blocked;
+                }
+                // All 4 corners blocked, by different triangles: most likely in shadow, and
+                // tracing the segments (which stop at their first blocker) is cheaper.
+                if (out.occluded == 0xF) return CornerStatus::overflow;
+            } else if (cv.hit) {
+                const vbool4 take = best.update(vbool4::from_bits(cv.hit), cv.t, id);
+                lane_tmax = select(take, cv.t, lane_tmax);  // inclusive, as trace_ray
+                shortened |= any(take);
+            }
+            if (cv.relevant) {
+                if (out.list.count == rtt_max_relevant) return CornerStatus::untraced;
+                out.list.tri[out.list.count] = id;
+                out.list.min_offset[out.list.count++] = cv.min_offset;
+            }
+        }
+        if constexpr (!AnyHit) {
+            if (shortened) {
+                const Narrowed r = narrow(best, region);
+                if (r == Narrowed::abandon) return CornerStatus::untraced;
+                if (r == Narrowed::smaller) {
+                    planes.load(region);
+                    load_planes();
+                    ++generation;
+                }
+            }
+        }
+    }
+    if constexpr (!AnyHit)
+        for (int i = 0; i < 4; ++i) out.hit[i] = Hit{best.t[i], uint32_t(best.tri[i])};
+    return CornerStatus::traced;
+}
+
+}  // namespace rtt
