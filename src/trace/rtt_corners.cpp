@@ -20,7 +20,7 @@ struct alignas(16) CornerStackEntry {
 
 }  // namespace
 
-template <bool AnyHit>
+template <bool AnyHit, bool Lean>
 CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> triangles,
                            const Shaft& shaft, const ShaftRegion* region, const Ray (&corners)[4],
                            TriangleMailbox& mailbox, CornerResult& out) {
@@ -70,14 +70,19 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
     }
     const vf tscale = vf(dist) / max(max(abs(dir[0]), abs(dir[1])), abs(dir[2]));
     const uint32_t entering = movemask(t0 <= t1);
-    if (entering != 0xF) out.coherent = false;
+    if (entering != 0xF) {
+        if constexpr (Lean) return CornerStatus::untraced;
+        out.coherent = false;
+    }
 
     bool listing = true;  // list and deferred nodes within capacity
     // A node no lane enters is kept for shaft culling. Shadows test it against the region at
     // once (their region is final); closest hits keep it untested: their region's end is known
-    // only at the end, and tiles whose corners part ways never need the test.
+    // only at the end, and tiles whose corners part ways never need the test. Lean closest hits
+    // test it against the cone (every later region lies in it: a box missing the cone misses
+    // them all), since their tiles are coherent so far and most skipped nodes lie beside it.
     const auto defer = [&](uint32_t node, const BoxV& box) {
-        if (AnyHit && !region->meets(box)) return;
+        if ((AnyHit || Lean) && !region->meets(box)) return;
         DeferredNodes& d = out.deferred;
         if (d.count == rtt_max_deferred) {
             listing = false;
@@ -127,7 +132,10 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
             // lanes skip may still hold what an inner ray hits before its end: deferred.
             const uint32_t done = movemask(ta > best.t) & lanes;
             if (done) {
-                if (done != lanes) out.coherent = false;
+                if (done != lanes) {
+                    if constexpr (Lean) return CornerStatus::untraced;
+                    out.coherent = false;
+                }
                 lanes &= ~done;
                 if (!lanes) {
                     defer(index, box);
@@ -147,8 +155,10 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
             const vf second_lo = max(ds - m, ta);  // std::max(ta, d - m)
             const uint32_t go_first = movemask(ta <= first_hi) & lanes;
             const uint32_t go_second = movemask(second_lo <= tb) & lanes;
-            if ((go_first && go_first != lanes) || (go_second && go_second != lanes))
+            if ((go_first && go_first != lanes) || (go_second && go_second != lanes)) {
+                if constexpr (Lean) return CornerStatus::untraced;
                 out.coherent = false;
+            }
             // Children boxes: the box cut at the split (each closed).
             BoxV below_box = box, above_box = box;
             below_box.hi = select(axis_lane[axis], vf(n.split), box.hi);
@@ -222,6 +232,10 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
     return listing ? CornerStatus::traced : CornerStatus::overflow;
 }
 
+template CornerStatus trace_corners<false, true>(const KdTree&, std::span<const TriangleVerts>,
+                                                 const Shaft&, const ShaftRegion*,
+                                                 const Ray (&)[4], TriangleMailbox&,
+                                                 CornerResult&);
 template CornerStatus trace_corners<false>(const KdTree&, std::span<const TriangleVerts>,
                                            const Shaft&, const ShaftRegion*, const Ray (&)[4],
                                            TriangleMailbox&, CornerResult&);

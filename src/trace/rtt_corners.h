@@ -1,5 +1,5 @@
-// RTT's corner traversal (paper section 3, ALGORITHM.md steps 1-2), used by "rtt-paper" ("rtt"
-// walks the shaft instead, rtt_cull.h, and shares the types below): the 4 corner rays of a
+// RTT's corner traversal (paper section 3, ALGORITHM.md steps 1-2), used by "rtt-paper" and by
+// "rtt" at K = 1 (Lean; larger tiles walk the shaft instead, rtt_cull.h, sharing the types below): the 4 corner rays of a
 // shaft go through the kd-tree as one SSE packet, with trace_ray's semantics per lane (they are
 // answers too), and every triangle of every leaf they reach is put through the shaft's five
 // conservative tests (geom/shaft.h) to build the tile's relevant list.
@@ -126,8 +126,12 @@ struct CornerResult {
 /// every accepted segment. Starts a new mailbox tile. The corners' answers are valid unless
 /// `untraced`.
 /// Nodes no lane enters are deferred (AnyHit: only when their box meets `*region`, which must
-/// hold every point of every segment answered from the list; unused for closest hits).
-template <bool AnyHit>
+/// hold every point of every segment answered from the list; unused for closest hits unless
+/// Lean).
+/// Lean (closest hits, "rtt" at K = 1): the paper's incoherence flag ends the pass at once
+/// (`untraced`), and only nodes whose box meets `*region` (the shaft's cone and start) are
+/// deferred.
+template <bool AnyHit, bool Lean = false>
 CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> triangles,
                            const Shaft& shaft, const ShaftRegion* region, const Ray (&corners)[4],
                            TriangleMailbox& mailbox, CornerResult& out);

@@ -82,7 +82,38 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
     CornerResult& res = tls_corners;
     PrimaryEnd end;
     bool listed = false;
-    if (extended_) {
+    if (extended_ && n == 16) {
+        // K = 1: the paper's procedure, leaner than the walk. The corners go through the tree
+        // as one SSE packet and the pass stops at the first sign of incoherence (the tile is
+        // then traced by 16-wide packets at once); nodes no corner enters are deferred only
+        // when their box may meet the cone (a box that misses the cone misses every region R
+        // of this shaft), and shaft culled against R afterwards (collect_deferred, within
+        // deferred_budget). Exact as rtt-paper: every leaf whose box may meet R is tested
+        // (rtt_corners.h). Measured against the walk at 640x480 (docs/benchmarks.md): it
+        // answers fewer tiles (only coherent corners), but a tile it cannot answer costs a
+        // part of a corner packet instead of a walk up to its budget.
+        const ShaftRegion cone(shaft, tree_.bounds, shaft.start_lo, pos_inf);
+        const CornerStatus status = trace_corners<false, true>(tree_, triangles_, shaft, &cone,
+                                                               corners, tls_mailbox, res);
+        if (status == CornerStatus::untraced) {
+            trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
+            return;
+        }
+        for (int i = 0; i < 4; ++i) hits[cs[i]] = res.hit[i];
+        alignas(16) float t[4];
+        alignas(16) int32_t tri[4];
+        for (int i = 0; i < 4; ++i) {
+            t[i] = res.hit[i].t;
+            tri[i] = int32_t(res.hit[i].tri);
+        }
+        // One plane P for the 4 hits, as the walk asks (primary_end): R ends on P.
+        listed =
+            status == CornerStatus::traced &&
+            primary_end(shaft, corners, vfloat4::load(t), vint4::load(tri), end) &&
+            end.plane_id != no_plane &&
+            collect_deferred<false>(tree_, triangles_, shaft, primary_region(shaft, end),
+                                    deferred_budget(n), tls_mailbox, res) == CornerStatus::traced;
+    } else if (extended_) {
         // One walk through the shaft (rtt_cull.h), narrowed as the corners' hits come nearer.
         // Each region must contain the next one (rtt_cull.h): the end offset and tolerance
         // only shrink with the hits.
