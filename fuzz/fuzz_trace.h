@@ -28,14 +28,13 @@ inline constexpr size_t max_traced_triangles = 4096;
 /// tracers are known to disagree, so such views are only traced (nothing may crash), not
 /// compared. At 1e-8 (camera 1e8 away from a box of size 2, corpus/fuzz_cli_values/
 /// camera_1e8_away) float cannot place the geometry at all: the kd-tree tracers miss what the
-/// brute-force test "hits" through rounding. At 2e-4 (camera 11469 away, fovy 6e-6 degrees,
-/// camera_11469_away_tie) the box-clip distances (bound - org) / dir are rounded at the
-/// origin's magnitude, far coarser than the tree's padding, and cut off a tie on the bounds
-/// (triangles 3 and 7 of the box's edge at the same t): "ray" answered 7 where brute force
-/// answers 3. trace_ray widens that clip now (kdtree_test's FarCameraKeepsHitsOnTheTreeBounds),
-/// but the packet tracers clip as "ray" used to (packet vs "ray": 64 of 256 samples in this
-/// view), and at 6e-8 (camera_3e7_away_tie) "rtt" still breaks such ties otherwise (66 of 256).
-/// Lower the threshold to 1e-4 once every kd-tree tracer agrees on those two seeds.
+/// brute-force test "hits" through rounding. At 3.6e-4 and 3e-8 (camera_5720_away_rtt_miss,
+/// camera_6e7_away_rtt_miss) "rtt" and "rtt-paper" miss a sample on which "ray" and brute force
+/// agree: reported to RTT's owners. Once they agree, lower the threshold to 1e-4 and compare the
+/// tracers among themselves at any distance. (Until commits fb3c94e and d691f6d "ray" and the
+/// packet tracers disagreed too, camera_11469_away_tie and camera_3e7_away_tie: the box-clip
+/// distances are rounded at the origin's magnitude, far coarser than the tree's padding, and
+/// cut off ties on the bounds.)
 inline bool resolvable(const Scene& scene, const Camera& camera) {
     const Bbox3f box = scene.bounds();
     const Vec3f d = box.diagonal();

@@ -41,6 +41,12 @@ for t in "${targets[@]}"; do
   log="$build/$t.log"
   start=$(date +%s)
   status=0
+  # The seeds are regression inputs: a checkout without them must not pass quietly.
+  if [ ! -d "fuzz/corpus/$t" ]; then
+    failed+=("$t")
+    summary+=("$t: FAILED, seed corpus fuzz/corpus/$t missing (ignored by git?)")
+    continue
+  fi
   "$build/fuzz/$t" "$work" "fuzz/corpus/$t" "${dict[@]}" -max_total_time="$seconds" \
     -timeout=10 -rss_limit_mb=2048 -artifact_prefix="$artifacts/" -print_final_stats=1 \
     >"$log" 2>&1 || status=$?

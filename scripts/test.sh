@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The README's test command: install what is missing, build, run the whole test suite; then
 # the suite again under sanitizers and a short fuzzing pass (docs/robustness.md). Each stage
-# prints its wall time (CI has 90 minutes; on 2 cores the whole script takes about 20).
+# prints its wall time (CI has 90 minutes; on a 2-core machine shared with other builds the
+# whole script took 39 minutes from scratch, docs/robustness.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

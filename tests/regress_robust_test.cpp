@@ -146,5 +146,23 @@ TEST(Regress, CommandLineValuesAreStrict) {
         EXPECT_THROW(parse_size(bad, w, h), Error) << bad;
 }
 
+TEST(Regress, OutputOntoAFolderSaysSo) {
+    // Found while listing bad inputs for docs/robustness.md: `rtt render --shadows .` rendered,
+    // then failed with "cannot write file: Device or resource busy" (rename onto ".").
+    const fs::path dir =
+        fs::temp_directory_path() / ("rtt_regress_" + std::to_string(getpid()) + "_dir");
+    fs::create_directories(dir);
+    for (const std::string& path : {dir.string(), dir.string() + "/."}) {
+        try {
+            write_hit_buffer(path, HitBuffer{1, 1, 1, {0u}});
+            ADD_FAILURE() << "wrote onto a folder: " << path;
+        } catch (const Error& e) {
+            EXPECT_EQ(std::string(e.what()), path + ": is a directory, not a file");
+        }
+    }
+    EXPECT_TRUE(fs::is_empty(dir)) << "a temporary was left behind";
+    fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace rtt

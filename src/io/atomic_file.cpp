@@ -24,6 +24,11 @@ public:
             slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
         const std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
         if (base.empty()) throw Error(path + ": not a file name");
+        // A folder in the way: rename() would refuse it too, but with "Device or resource
+        // busy" for "." and only after the file was written.
+        struct stat st;
+        if (stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
+            throw Error(path + ": is a directory, not a file");
         name_ = dir + "." + base + ".tmpXXXXXX";
         const int fd = mkstemp(name_.data());
         if (fd < 0) throw Error(path + ": cannot create file: " + std::strerror(errno));
