@@ -69,6 +69,10 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
         dist = std::max({dist, std::fabs(padded.lo[a] - org[a]), std::fabs(padded.hi[a] - org[a])});
     }
     const vf tscale = vf(dist) / max(max(abs(dir[0]), abs(dir[1])), abs(dir[2]));
+    // Widen what the box cut by the split margin, within [tmin, tmax], as trace_ray does.
+    const vf lane_min = vf::load(tmin), lane_max = vf::load(tmax);
+    t0 = select(t0 > lane_min, max(t0 - (abs(t0) + tscale) * vf(kd_margin), lane_min), lane_min);
+    t1 = select(t1 < lane_max, min(t1 + (abs(t1) + tscale) * vf(kd_margin), lane_max), lane_max);
     const uint32_t entering = movemask(t0 <= t1);
     if (entering != 0xF) {
         if constexpr (Lean) return CornerStatus::untraced;
