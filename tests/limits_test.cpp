@@ -25,6 +25,7 @@
 #include "rtt/render.h"
 #include "rtt/scene_io.h"
 #include "test_env.h"
+#include "triangle_soup.h"
 
 
 namespace rtt {
@@ -34,6 +35,7 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 using test_env::time_slack;
 using test_env::under_asan;
+using test::scene_of;
 
 double seconds_since(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
@@ -86,20 +88,6 @@ RunResult run_cli(const TempDir& dir, const std::string& args, const std::string
     r.err = read_text(err);
     fs::remove(err);
     return r;
-}
-
-Scene scene_of(const std::vector<TriangleVerts>& tris) {
-    Scene s;
-    const uint32_t mat = s.add_material(Material{});
-    std::vector<Vec3f> v;
-    std::vector<TriangleIndices> idx;
-    for (const TriangleVerts& t : tris) {
-        const auto b = uint32_t(v.size());
-        v.insert(v.end(), {t.v0, t.v1, t.v2});
-        idx.push_back({b, b + 1, b + 2});
-    }
-    s.add_mesh(v, idx, mat);
-    return s;
 }
 
 const std::string mesh_path = std::string(RTT_TEST_DATA_DIR) + "/render_mesh.obj";
