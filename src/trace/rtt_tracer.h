@@ -83,6 +83,9 @@ private:
     /// False when some corner missed.
     bool primary_end(const Shaft& shaft, const Ray (&corners)[4], const vfloat4& t,
                      const vint4& tri, PrimaryEnd& e) const;
+    /// The same for the corners' closest hits.
+    bool primary_end(const Shaft& shaft, const Ray (&corners)[4], const Hit (&hits)[4],
+                     PrimaryEnd& e) const;
     /// The region of e (primary_region) from a region of the same shaft and start.
     void narrow_to(ShaftRegion& region, const PrimaryEnd& e) const;
     ShaftRegion primary_region(const Shaft& shaft, const PrimaryEnd& e) const;

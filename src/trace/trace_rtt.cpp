@@ -57,6 +57,17 @@ bool RttTracer::primary_end(const Shaft& shaft, const Ray (&corners)[4], const v
     return true;
 }
 
+bool RttTracer::primary_end(const Shaft& shaft, const Ray (&corners)[4], const Hit (&hits)[4],
+                            PrimaryEnd& e) const {
+    alignas(16) float t[4];
+    alignas(16) int32_t tri[4];
+    for (int i = 0; i < 4; ++i) {
+        t[i] = hits[i].t;
+        tri[i] = int32_t(hits[i].tri);
+    }
+    return primary_end(shaft, corners, vfloat4::load(t), vint4::load(tri), e);
+}
+
 void RttTracer::narrow_to(ShaftRegion& region, const PrimaryEnd& e) const {
     const bool plane = e.plane_id != no_plane;
     region.set_end(e.end_limit, plane ? &e.plane.n : nullptr,
@@ -100,16 +111,10 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
             return;
         }
         for (int i = 0; i < 4; ++i) hits[cs[i]] = res.hit[i];
-        alignas(16) float t[4];
-        alignas(16) int32_t tri[4];
-        for (int i = 0; i < 4; ++i) {
-            t[i] = res.hit[i].t;
-            tri[i] = int32_t(res.hit[i].tri);
-        }
         // One plane P for the 4 hits, as the walk asks (primary_end): R ends on P.
         listed =
             status == CornerStatus::traced &&
-            primary_end(shaft, corners, vfloat4::load(t), vint4::load(tri), end) &&
+            primary_end(shaft, corners, res.hit, end) &&
             end.plane_id != no_plane &&
             collect_deferred<false>(tree_, triangles_, shaft, primary_region(shaft, end),
                                     deferred_budget(n), tls_mailbox, res) == CornerStatus::traced;
@@ -150,13 +155,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
             return;
         }
         for (int i = 0; i < 4; ++i) hits[cs[i]] = res.hit[i];
-        alignas(16) float t[4];
-        alignas(16) int32_t tri[4];
-        for (int i = 0; i < 4; ++i) {
-            t[i] = res.hit[i].t;
-            tri[i] = int32_t(res.hit[i].tri);
-        }
-        listed = primary_end(shaft, corners, vfloat4::load(t), vint4::load(tri), end) &&
+        listed = primary_end(shaft, corners, res.hit, end) &&
                  (slab_only || end.plane_id != no_plane);
     } else {
         CornerStatus status =
@@ -170,15 +169,9 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         const bool one_triangle = res.hit[1].tri == res.hit[0].tri &&
                                   res.hit[2].tri == res.hit[0].tri &&
                                   res.hit[3].tri == res.hit[0].tri;
-        alignas(16) float t[4];
-        alignas(16) int32_t tri[4];
-        for (int i = 0; i < 4; ++i) {
-            t[i] = res.hit[i].t;
-            tri[i] = int32_t(res.hit[i].tri);
-        }
         listed =
             status == CornerStatus::traced && one_triangle && res.coherent &&
-            primary_end(shaft, corners, vfloat4::load(t), vint4::load(tri), end) &&
+            primary_end(shaft, corners, res.hit, end) &&
             end.plane_id != no_plane &&
             collect_deferred<false>(tree_, triangles_, shaft, primary_region(shaft, end),
                                     deferred_budget(n), tls_mailbox, res) == CornerStatus::traced;
