@@ -82,11 +82,14 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
     bool listing = true;  // list and deferred nodes within capacity
     // A node no lane enters is kept for shaft culling. Shadows test it against the region at
     // once (their region is final); closest hits keep it untested: their region's end is known
-    // only at the end, and tiles whose corners part ways never need the test. Lean closest hits
-    // test it against the cone (every later region lies in it: a box missing the cone misses
-    // them all), since their tiles are coherent so far and most skipped nodes lie beside it.
+    // only at the end, and tiles whose corners part ways never need the test. Lean tiles too:
+    // collect_deferred tests every kept box against the final region R, which lies in the
+    // shaft's cone, so a box test against the cone here would only repeat (one box at a time)
+    // a test that the batch does 16 boxes at a time, and for every tile that gives up later
+    // would be wasted. The set of nodes entered is the same; only a tile with more than
+    // rtt_max_deferred skipped nodes now gives up (overflow: traced by packets, still exact).
     const auto defer = [&](uint32_t node, const BoxV& box) {
-        if ((AnyHit || Lean) && !region->meets(box)) return;
+        if (AnyHit && !region->meets(box)) return;
         DeferredNodes& d = out.deferred;
         if (d.count == rtt_max_deferred) {
             listing = false;

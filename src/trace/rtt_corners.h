@@ -126,11 +126,10 @@ struct CornerResult {
 /// every accepted segment. Starts a new mailbox tile. The corners' answers are valid unless
 /// `untraced`.
 /// Nodes no lane enters are deferred (AnyHit: only when their box meets `*region`, which must
-/// hold every point of every segment answered from the list; unused for closest hits unless
-/// Lean).
+/// hold every point of every segment answered from the list; unused, may be null, for closest
+/// hits).
 /// Lean (closest hits, "rtt" at K = 1): the paper's incoherence flag ends the pass at once
-/// (`untraced`), and only nodes whose box meets `*region` (the shaft's cone and start) are
-/// deferred.
+/// (`untraced`).
 template <bool AnyHit, bool Lean = false>
 CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> triangles,
                            const Shaft& shaft, const ShaftRegion* region, const Ray (&corners)[4],

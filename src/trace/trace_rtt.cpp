@@ -3,6 +3,7 @@
 
 #include <bit>
 #include <cmath>
+#include <optional>
 
 #include "trace/factories.h"
 #include "trace/rtt_cull.h"
@@ -93,18 +94,17 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
     CornerResult& res = tls_corners;
     PrimaryEnd end;
     bool listed = false;
+    std::optional<ShaftRegion> region;  // primary_region(shaft, end), once it is built
     if (extended_ && n == 16) {
         // K = 1: the paper's procedure, leaner than the walk. The corners go through the tree
         // as one SSE packet and the pass stops at the first sign of incoherence (the tile is
-        // then traced by 16-wide packets at once); nodes no corner enters are deferred only
-        // when their box may meet the cone (a box that misses the cone misses every region R
-        // of this shaft), and shaft culled against R afterwards (collect_deferred, within
-        // deferred_budget). Exact as rtt-paper: every leaf whose box may meet R is tested
+        // then traced by 16-wide packets at once); nodes no corner enters are deferred
+        // untested and shaft culled against R afterwards, 16 boxes per test (collect_deferred,
+        // within deferred_budget). Exact as rtt-paper: every leaf whose box may meet R is tested
         // (rtt_corners.h). Measured against the walk at 640x480 (docs/benchmarks.md): it
         // answers fewer tiles (only coherent corners), but a tile it cannot answer costs a
         // part of a corner packet instead of a walk up to its budget.
-        const ShaftRegion cone(shaft, tree_.bounds, shaft.start_lo, pos_inf);
-        const CornerStatus status = trace_corners<false, true>(tree_, triangles_, shaft, &cone,
+        const CornerStatus status = trace_corners<false, true>(tree_, triangles_, shaft, nullptr,
                                                                corners, tls_mailbox, res);
         if (status == CornerStatus::untraced) {
             trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
@@ -112,12 +112,14 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         }
         for (int i = 0; i < 4; ++i) hits[cs[i]] = res.hit[i];
         // One plane P for the 4 hits, as the walk asks (primary_end): R ends on P.
-        listed =
-            status == CornerStatus::traced &&
-            primary_end(shaft, corners, res.hit, end) &&
-            end.plane_id != no_plane &&
-            collect_deferred<false>(tree_, triangles_, shaft, primary_region(shaft, end),
-                                    deferred_budget(n), tls_mailbox, res) == CornerStatus::traced;
+        listed = status == CornerStatus::traced &&
+                 primary_end(shaft, corners, res.hit, end) && end.plane_id != no_plane;
+        if (listed) {
+            region.emplace(primary_region(shaft, end));
+            listed = collect_deferred<false>(tree_, triangles_, shaft, *region,
+                                             deferred_budget(n), tls_mailbox,
+                                             res) == CornerStatus::traced;
+        }
     } else if (extended_) {
         // One walk through the shaft (rtt_cull.h), narrowed as the corners' hits come nearer.
         // Each region must contain the next one (rtt_cull.h): the end offset and tolerance
@@ -132,7 +134,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         //    the longer walk and list cost from K = 3 on (measured on room; at K = 2 it is a
         //    loss).
         const bool slab_allowed = n > 64;
-        ShaftRegion region(shaft, tree_.bounds, shaft.start_lo, pos_inf);
+        ShaftRegion walk_region(shaft, tree_.bounds, shaft.start_lo, pos_inf);
         uint32_t plane = no_plane;
         bool slab_only = false;
         const auto narrow = [&](const PacketHit<4>& best, ShaftRegion& r) {
@@ -148,7 +150,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
             narrow_to(r, e);
             return Narrowed::smaller;
         };
-        const CornerStatus status = cull_shaft<false>(tree_, triangles_, shaft, region,
+        const CornerStatus status = cull_shaft<false>(tree_, triangles_, shaft, walk_region,
                                                       cull_budget(n), tls_mailbox, res, narrow);
         if (status == CornerStatus::untraced) {
             trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
@@ -183,7 +185,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         // end_limit along kz cannot be hit inside R; nor can one whose bounding box misses R
         // (the walk's own rule, rtt_cull.h; the walk may have listed it under a larger region).
         RelevantList& list = res.list;
-        const ShaftRegion region = primary_region(shaft, end);
+        if (!region) region.emplace(primary_region(shaft, end));
         int kept = 0;
         for (int j = 0; j < list.count; ++j) {
             const TriangleVerts& tri = triangles_[list.tri[j]];
@@ -192,7 +194,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
             box.hi = max(max(BoxV::lanes(tri.v0), BoxV::lanes(tri.v1)), BoxV::lanes(tri.v2));
             if (!(list.min_offset[j] * (1.f - 16.f * unit_roundoff) >
                   end.end_limit * (1.f + 4.f * unit_roundoff)) &&
-                region.meets(box)) {
+                region->meets(box)) {
                 list.tri[kept] = list.tri[j];
                 list.min_offset[kept++] = list.min_offset[j];
             }
