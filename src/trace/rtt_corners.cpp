@@ -80,6 +80,7 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
     }
 
     bool listing = true;  // list and deferred nodes within capacity
+    bool closer = false;  // take_verdict's flag: this pass does not narrow its region
     // A node no lane enters is kept for shaft culling. Shadows test it against the region at
     // once (their region is final); closest hits keep it untested: their region's end is known
     // only at the end, and tiles whose corners part ways never need the test. Lean tiles too:
@@ -209,28 +210,11 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
             // Every lane tests every triangle met: a superset of the leaves trace_ray visits
             // per lane, which returns the same answers (trace_ray.h).
             const CornerVerdict v = test_corners<AnyHit>(shaft, triangles[id], lane_tmax);
-            if constexpr (AnyHit) {
-                out.occluded |= v.hit;
-                if (v.blocks_all) {
-                    out.blocker = id;
-                    out.occluded = 0xF;
-                    return CornerStatus::blocked;
-                }
-                // All 4 corners blocked, by different triangles: the tile is most likely in
-                // shadow, and tracing its segments (which stop at their first blocker) is
-                // cheaper than the rest of the list. The corners are answered.
-                if (out.occluded == 0xF) return CornerStatus::overflow;
-            } else if (v.hit) {
-                const vb take = best.update(vb::from_bits(v.hit), v.t, id);
-                lane_tmax = select(take, v.t, lane_tmax);  // inclusive, as trace_ray
-            }
-            if (v.relevant) {
-                if (out.list.count == rtt_max_relevant) {
-                    listing = false;
-                } else {
-                    out.list.tri[out.list.count] = id;
-                    out.list.min_offset[out.list.count++] = v.min_offset;
-                }
+            switch (take_verdict<AnyHit>(v, id, out, best, lane_tmax, closer)) {
+                case VerdictTaken::ok: break;
+                case VerdictTaken::blocked: return CornerStatus::blocked;
+                case VerdictTaken::all_blocked: return CornerStatus::overflow;
+                case VerdictTaken::list_full: listing = false; break;
             }
         }
     }

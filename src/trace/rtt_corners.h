@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "geom/shaft.h"
+#include "geom/triangle_simd.h"
 #include "rtt/kdtree.h"
 #include "rtt/math.h"
 
@@ -119,6 +120,45 @@ struct CornerResult {
     RelevantList list;
     DeferredNodes deferred;
 };
+
+/// What taking one triangle's corner verdict did to a corner pass.
+enum class VerdictTaken {
+    ok,
+    blocked,      ///< Any-hit: the triangle blocks every accepted segment of the tile.
+    all_blocked,  ///< Any-hit: all 4 corners are now blocked, by different triangles.
+    list_full,    ///< The triangle is relevant but the list has no room left.
+};
+
+/// Takes triangle `id`'s verdict `v` into a corner pass (trace_corners, cull_shaft): shadow
+/// blockers into `out.occluded`, or closer hits into `best` with `lane_tmax` following
+/// (inclusive, as trace_ray; `closer` set when some corner's hit came nearer); a relevant
+/// triangle is appended to `out.list`. Callers decide what a stop means for their pass.
+template <bool AnyHit>
+inline VerdictTaken take_verdict(const CornerVerdict& v, uint32_t id, CornerResult& out,
+                                 PacketHit<4>& best, vfloat4& lane_tmax, bool& closer) {
+    if constexpr (AnyHit) {
+        out.occluded |= v.hit;
+        if (v.blocks_all) {
+            out.blocker = id;
+            out.occluded = 0xF;
+            return VerdictTaken::blocked;
+        }
+        // All 4 corners blocked, by different triangles: the tile is most likely in shadow,
+        // and tracing its segments (which stop at their first blocker) is cheaper than the
+        // rest of the list. The corners are answered.
+        if (out.occluded == 0xF) return VerdictTaken::all_blocked;
+    } else if (v.hit) {
+        const vbool4 take = best.update(vbool4::from_bits(v.hit), v.t, id);
+        lane_tmax = select(take, v.t, lane_tmax);
+        closer |= any(take);
+    }
+    if (v.relevant) {
+        if (out.list.count == rtt_max_relevant) return VerdictTaken::list_full;
+        out.list.tri[out.list.count] = id;
+        out.list.min_offset[out.list.count++] = v.min_offset;
+    }
+    return VerdictTaken::ok;
+}
 
 /// Traces the shaft's corners `corners` (corner_sample order, the rays `shaft` was made from).
 /// AnyHit = false: closest hits, lanes terminating as trace_ray's do (`out.hit`); true: shadow

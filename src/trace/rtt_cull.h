@@ -243,25 +243,11 @@ CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> trian
             // corner before its current hit (the region only shrinks: it stays missed).
             if (!triangle_meets(tri)) continue;
             const CornerVerdict cv = test_corners<AnyHit>(shaft, tri, lane_tmax);
-            if constexpr (AnyHit) {
-                out.occluded |= cv.hit;
-                if (cv.blocks_all) {
-                    out.blocker = id;
-                    out.occluded = 0xF;
-                    return CornerStatus::blocked;
-                }
-                // All 4 corners blocked, by different triangles: most likely in shadow, and
-                // tracing the segments (which stop at their first blocker) is cheaper.
-                if (out.occluded == 0xF) return CornerStatus::overflow;
-            } else if (cv.hit) {
-                const vbool4 take = best.update(vbool4::from_bits(cv.hit), cv.t, id);
-                lane_tmax = select(take, cv.t, lane_tmax);  // inclusive, as trace_ray
-                shortened |= any(take);
-            }
-            if (cv.relevant) {
-                if (out.list.count == rtt_max_relevant) return CornerStatus::untraced;
-                out.list.tri[out.list.count] = id;
-                out.list.min_offset[out.list.count++] = cv.min_offset;
+            switch (take_verdict<AnyHit>(cv, id, out, best, lane_tmax, shortened)) {
+                case VerdictTaken::ok: break;
+                case VerdictTaken::blocked: return CornerStatus::blocked;
+                case VerdictTaken::all_blocked: return CornerStatus::overflow;
+                case VerdictTaken::list_full: return CornerStatus::untraced;
             }
         }
         if constexpr (!AnyHit) {
