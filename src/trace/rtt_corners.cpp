@@ -24,11 +24,7 @@ template <bool AnyHit, bool Lean>
 CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> triangles,
                            const Shaft& shaft, const ShaftRegion* region, const Ray (&corners)[4],
                            TriangleMailbox& mailbox, CornerResult& out) {
-    out.list.count = 0;
-    out.deferred.count = 0;
-    out.occluded = 0;
-    out.coherent = true;
-    for (Hit& h : out.hit) h = Hit{};
+    out.reset();
     mailbox.begin(triangles.size());
     if (tree.nodes.empty()) return CornerStatus::traced;
     const Vec3f org = shaft.org;

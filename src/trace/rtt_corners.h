@@ -119,6 +119,15 @@ struct CornerResult {
     bool coherent = true;  ///< The paper's flag was never raised.
     RelevantList list;
     DeferredNodes deferred;
+
+    /// Forgets the previous tile's answers, list and deferred nodes.
+    void reset() {
+        list.count = 0;
+        deferred.count = 0;
+        occluded = 0;
+        coherent = true;
+        for (Hit& h : hit) h = Hit{};
+    }
 };
 
 /// What taking one triangle's corner verdict did to a corner pass.

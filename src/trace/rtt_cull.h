@@ -85,11 +85,7 @@ CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> trian
     constexpr int C = 8 / W;                        // vectors per 8 half-spaces
     using vf = vfloat<W>;
     using vf4 = vfloat4;
-    out.list.count = 0;
-    out.deferred.count = 0;
-    out.occluded = 0;
-    out.coherent = true;
-    for (Hit& h : out.hit) h = Hit{};
+    out.reset();
     mailbox.begin(triangles.size());
     if (tree.nodes.empty()) return CornerStatus::traced;
 
