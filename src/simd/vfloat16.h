@@ -127,6 +127,53 @@ RTT_FORCEINLINE vfloat16 as_float(vint16 a) {
     return _mm512_castsi512_ps(a);
 }
 
+/// Reads 16 records of 8 floats, p[8 i + f], as 8 vectors: out[f] lane i = p[8 i + f] (three
+/// rounds of two-register permutes, each swapping one bit of the register number with one of
+/// the lane number; no gather, which is slow on some cores, and no staging through memory).
+RTT_FORCEINLINE void load_records8(const float* p, vfloat16 (&out)[8]) {
+    alignas(64) static constexpr int32_t index[3][2][16] = {
+        {{0, 16, 2, 18, 4, 20, 6, 22, 8, 24, 10, 26, 12, 28, 14, 30},
+         {1, 17, 3, 19, 5, 21, 7, 23, 9, 25, 11, 27, 13, 29, 15, 31}},
+        {{0, 1, 16, 17, 4, 5, 20, 21, 8, 9, 24, 25, 12, 13, 28, 29},
+         {2, 3, 18, 19, 6, 7, 22, 23, 10, 11, 26, 27, 14, 15, 30, 31}},
+        // The last round also puts the lanes in record order.
+        {{0, 8, 1, 9, 2, 10, 3, 11, 16, 24, 17, 25, 18, 26, 19, 27},
+         {4, 12, 5, 13, 6, 14, 7, 15, 20, 28, 21, 29, 22, 30, 23, 31}}};
+    __m512 r[8];
+    for (int j = 0; j < 8; ++j) r[j] = _mm512_loadu_ps(p + 16 * j);
+    for (int s = 0; s < 3; ++s) {
+        const __m512i lo = _mm512_load_si512(index[s][0]), hi = _mm512_load_si512(index[s][1]);
+        for (int a = 0; a < 8; ++a) {
+            if ((a >> s) & 1) continue;
+            const int b = a | (1 << s);
+            const __m512 x = _mm512_permutex2var_ps(r[a], lo, r[b]);
+            r[b] = _mm512_permutex2var_ps(r[a], hi, r[b]);
+            r[a] = x;
+        }
+    }
+    for (int f = 0; f < 8; ++f) out[f] = r[f];
+}
+
+/// Reads 16 records of 3 floats, p[3 i + c], as 3 vectors: out[c] lane i = p[3 i + c].
+RTT_FORCEINLINE void load_records3(const float* p, vfloat16 (&out)[3]) {
+    // Per coordinate: lanes from the first two registers (record i's element 3 i + c < 32),
+    // then the third's.
+    alignas(64) static constexpr int32_t first[3][16] = {
+        {0, 3, 6, 9, 12, 15, 18, 21, 24, 27, 30, 0, 0, 0, 0, 0},
+        {1, 4, 7, 10, 13, 16, 19, 22, 25, 28, 31, 0, 0, 0, 0, 0},
+        {2, 5, 8, 11, 14, 17, 20, 23, 26, 29, 0, 0, 0, 0, 0, 0}};
+    alignas(64) static constexpr int32_t second[3][16] = {
+        {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 17, 20, 23, 26, 29},
+        {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 18, 21, 24, 27, 30},
+        {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 16, 19, 22, 25, 28, 31}};
+    const __m512 r0 = _mm512_loadu_ps(p), r1 = _mm512_loadu_ps(p + 16),
+                 r2 = _mm512_loadu_ps(p + 32);
+    for (int c = 0; c < 3; ++c) {
+        const __m512 t = _mm512_permutex2var_ps(r0, _mm512_load_si512(first[c]), r1);
+        out[c] = _mm512_permutex2var_ps(t, _mm512_load_si512(second[c]), r2);
+    }
+}
+
 }  // namespace rtt
 
 #pragma GCC diagnostic pop

@@ -125,4 +125,23 @@ RTT_FORCEINLINE vfloat4 as_float(vint4 a) {
     return _mm_castsi128_ps(a);
 }
 
+/// Reads 4 records of 8 floats, p[8 i + f], as 8 vectors: out[f] lane i = p[8 i + f] (two 4x4
+/// transposes, one per half record).
+RTT_FORCEINLINE void load_records8(const float* p, vfloat4 (&out)[8]) {
+    for (int h = 0; h < 2; ++h) {
+        __m128 a = _mm_loadu_ps(p + 4 * h), b = _mm_loadu_ps(p + 8 + 4 * h),
+               c = _mm_loadu_ps(p + 16 + 4 * h), d = _mm_loadu_ps(p + 24 + 4 * h);
+        _MM_TRANSPOSE4_PS(a, b, c, d);
+        out[4 * h] = a;
+        out[4 * h + 1] = b;
+        out[4 * h + 2] = c;
+        out[4 * h + 3] = d;
+    }
+}
+
+/// Reads 4 records of 3 floats, p[3 i + c], as 3 vectors: out[c] lane i = p[3 i + c].
+RTT_FORCEINLINE void load_records3(const float* p, vfloat4 (&out)[3]) {
+    for (int c = 0; c < 3; ++c) out[c] = _mm_setr_ps(p[c], p[3 + c], p[6 + c], p[9 + c]);
+}
+
 }  // namespace rtt

@@ -122,4 +122,44 @@ RTT_FORCEINLINE vfloat8 as_float(vint8 a) {
     return _mm256_castsi256_ps(a);
 }
 
+/// Reads 8 records of 8 floats, p[8 i + f], as 8 vectors: out[f] lane i = p[8 i + f] (the
+/// classic 8x8 transpose: unpack, shuffle, swap 128-bit halves).
+RTT_FORCEINLINE void load_records8(const float* p, vfloat8 (&out)[8]) {
+    __m256 r[8], t[8], s[8];
+    for (int j = 0; j < 8; ++j) r[j] = _mm256_loadu_ps(p + 8 * j);
+    for (int j = 0; j < 8; j += 2) {
+        t[j] = _mm256_unpacklo_ps(r[j], r[j + 1]);
+        t[j + 1] = _mm256_unpackhi_ps(r[j], r[j + 1]);
+    }
+    for (int j = 0; j < 8; j += 4) {
+        s[j] = _mm256_shuffle_ps(t[j], t[j + 2], 0x44);
+        s[j + 1] = _mm256_shuffle_ps(t[j], t[j + 2], 0xEE);
+        s[j + 2] = _mm256_shuffle_ps(t[j + 1], t[j + 3], 0x44);
+        s[j + 3] = _mm256_shuffle_ps(t[j + 1], t[j + 3], 0xEE);
+    }
+    for (int f = 0; f < 4; ++f) {
+        out[f] = _mm256_permute2f128_ps(s[f], s[f + 4], 0x20);
+        out[f + 4] = _mm256_permute2f128_ps(s[f], s[f + 4], 0x31);
+    }
+}
+
+/// Reads 8 records of 3 floats, p[3 i + c], as 3 vectors: out[c] lane i = p[3 i + c]: per
+/// coordinate, each register's lanes permuted into place, then blended.
+RTT_FORCEINLINE void load_records3(const float* p, vfloat8 (&out)[3]) {
+    const __m256 r0 = _mm256_loadu_ps(p), r1 = _mm256_loadu_ps(p + 8), r2 = _mm256_loadu_ps(p + 16);
+    // Element 3 i + c sits in register (3 i + c) / 8 at lane (3 i + c) % 8.
+    const __m256i index[3] = {_mm256_setr_epi32(0, 3, 6, 1, 4, 7, 2, 5),
+                              _mm256_setr_epi32(1, 4, 7, 2, 5, 0, 3, 6),
+                              _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7)};
+    __m256 from[3][3];
+    for (int c = 0; c < 3; ++c) {
+        from[c][0] = _mm256_permutevar8x32_ps(r0, index[c]);
+        from[c][1] = _mm256_permutevar8x32_ps(r1, index[c]);
+        from[c][2] = _mm256_permutevar8x32_ps(r2, index[c]);
+    }
+    out[0] = _mm256_blend_ps(_mm256_blend_ps(from[0][0], from[0][1], 0x38), from[0][2], 0xC0);
+    out[1] = _mm256_blend_ps(_mm256_blend_ps(from[1][0], from[1][1], 0x18), from[1][2], 0xE0);
+    out[2] = _mm256_blend_ps(_mm256_blend_ps(from[2][0], from[2][1], 0x1C), from[2][2], 0xE0);
+}
+
 }  // namespace rtt

@@ -53,6 +53,10 @@ RTT_FORCEINLINE vint16 operator+(vint16 a, vint16 b) {
 RTT_FORCEINLINE vint16 operator-(vint16 a, vint16 b) {
     return _mm512_sub_epi32(a, b);
 }
+/// Low 32 bits of the product (wraps like unsigned arithmetic).
+RTT_FORCEINLINE vint16 operator*(vint16 a, vint16 b) {
+    return _mm512_mullo_epi32(a, b);
+}
 RTT_FORCEINLINE vint16 operator&(vint16 a, vint16 b) {
     return _mm512_and_si512(a, b);
 }

@@ -48,6 +48,10 @@ RTT_FORCEINLINE vint4 operator+(vint4 a, vint4 b) {
 RTT_FORCEINLINE vint4 operator-(vint4 a, vint4 b) {
     return _mm_sub_epi32(a, b);
 }
+/// Low 32 bits of the product (wraps like unsigned arithmetic).
+RTT_FORCEINLINE vint4 operator*(vint4 a, vint4 b) {
+    return _mm_mullo_epi32(a, b);
+}
 RTT_FORCEINLINE vint4 operator&(vint4 a, vint4 b) {
     return _mm_and_si128(a, b);
 }

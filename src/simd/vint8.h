@@ -48,6 +48,10 @@ RTT_FORCEINLINE vint8 operator+(vint8 a, vint8 b) {
 RTT_FORCEINLINE vint8 operator-(vint8 a, vint8 b) {
     return _mm256_sub_epi32(a, b);
 }
+/// Low 32 bits of the product (wraps like unsigned arithmetic).
+RTT_FORCEINLINE vint8 operator*(vint8 a, vint8 b) {
+    return _mm256_mullo_epi32(a, b);
+}
 RTT_FORCEINLINE vint8 operator&(vint8 a, vint8 b) {
     return _mm256_and_si256(a, b);
 }

@@ -5,82 +5,121 @@
 // caller for ordinary tracing: exactness first.
 #pragma once
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
+#include <span>
+#include <type_traits>
 
 #include "geom/shaft.h"
 #include "geom/triangle_simd.h"
+#include "rtt/tracer.h"
 #include "trace/rtt_corners.h"
 
 namespace rtt {
 
-/// Structure-of-arrays staging of up to K rays; lanes past `count` repeat lane 0 (finite).
+/// K consecutive samples of a tile, [base, base + K), as structure of arrays. Lanes past the
+/// tile's end repeat its last ray (finite values, no slow denormals); `lanes` marks the
+/// samples the block holds.
 template <int K>
-struct alignas(64) InnerBatch {
-    alignas(64) float org[3][K];
-    alignas(64) float dir[3][K];
-    alignas(64) float tmin[K];
-    alignas(64) float tmax[K];
-    int sample[K];
-    int count = 0;
-
-    void add(int s, const Ray& r) {
-        for (int a = 0; a < 3; ++a) {
-            org[a][count] = r.org[a];
-            dir[a][count] = r.dir[a];
-        }
-        tmin[count] = r.tmin;
-        tmax[count] = r.tmax;
-        sample[count++] = s;
-    }
-    /// Fills the unused lanes; returns the mask of used ones.
-    uint32_t seal() {
-        for (int l = count; l < K; ++l) {
-            for (int a = 0; a < 3; ++a) {
-                org[a][l] = org[a][0];
-                dir[a][l] = dir[a][0];
-            }
-            tmin[l] = tmin[0];
-            tmax[l] = tmax[0];
-            sample[l] = -1;
-        }
-        return count == 32 ? ~0u : (1u << count) - 1u;
-    }
-    Vec3v<K> origin() const {
-        return {vfloat<K>::load(org[0]), vfloat<K>::load(org[1]), vfloat<K>::load(org[2])};
-    }
-    Vec3v<K> direction() const {
-        return {vfloat<K>::load(dir[0]), vfloat<K>::load(dir[1]), vfloat<K>::load(dir[2])};
-    }
+struct InnerRays {
+    Vec3v<K> org, dir;
+    vfloat<K> tmin, tmax;
+    int base = 0;
+    uint32_t lanes = 0;
 };
+
+/// Records base .. base + K - 1 of `records` (each `Floats` floats), read in registers
+/// (load_records8/3: staging them through memory with scalar stores made every vector load
+/// wait on store forwarding); a block past the end is padded with the last record.
+template <int K, int Floats, typename Record>
+RTT_FORCEINLINE void load_block(std::span<const Record> records, int base,
+                                vfloat<K> (&out)[Floats], uint32_t& lanes) {
+    static_assert(sizeof(Record) == Floats * sizeof(float) && std::is_standard_layout_v<Record>);
+    const int n = int(records.size());
+    const auto load = [&](const float* p) {
+        if constexpr (Floats == 8)
+            load_records8(p, out);
+        else
+            load_records3(p, out);
+    };
+    if (n - base >= K) [[likely]] {
+        lanes = all_lanes<K>;
+        load(reinterpret_cast<const float*>(records.data() + base));
+        return;
+    }
+    lanes = (1u << (n - base)) - 1u;
+    Record padded[K];
+    for (int l = 0; l < K; ++l) padded[l] = records[size_t(std::min(base + l, n - 1))];
+    load(reinterpret_cast<const float*>(padded));
+}
+
+/// Rays base .. base + K - 1 of `rays`.
+template <int K>
+RTT_FORCEINLINE InnerRays<K> load_inner_rays(std::span<const Ray> rays, int base) {
+    InnerRays<K> r;
+    r.base = base;
+    vfloat<K> f[8];
+    load_block<K, 8>(rays, base, f, r.lanes);
+    r.org = {f[0], f[1], f[2]};
+    r.dir = {f[3], f[4], f[5]};
+    r.tmin = f[6];
+    r.tmax = f[7];
+    return r;
+}
+
+/// Shadow segments base .. base + K - 1 of a tile: shadow_ray(light, points[s]), the same
+/// float operations (dir = p - L per component, the constant interval).
+template <int K>
+RTT_FORCEINLINE InnerRays<K> load_inner_segments(const Vec3f& light, std::span<const Vec3f> points,
+                                                 int base) {
+    using vf = vfloat<K>;
+    InnerRays<K> r;
+    r.base = base;
+    vf p[3];
+    load_block<K, 3>(points, base, p, r.lanes);
+    r.org = Vec3v<K>(light);
+    r.dir = {p[0] - vf(light.x), p[1] - vf(light.y), p[2] - vf(light.z)};
+    r.tmin = vf(shadow_epsilon);
+    r.tmax = vf(1.f - shadow_epsilon);
+    return r;
+}
+
+/// Bits of the samples of the block that are not the tile's corners.
+template <int K>
+RTT_FORCEINLINE uint32_t without_corners(const InnerRays<K>& r, int width, int height) {
+    uint32_t lanes = r.lanes;
+    for (int c = 0; c < 4; ++c) {
+        const int at = corner_sample(width, height, c) - r.base;
+        if (at >= 0 && at < K) lanes &= ~(1u << at);
+    }
+    return lanes;
+}
 
 /// shaft_accepts() for K rays at once, on the constants of `wp` (built from the same rays):
 /// the same comparisons on the same float values, lane by lane.
 template <int K>
-RTT_FORCEINLINE vbool<K> shaft_accepts(const Shaft& s, const InnerBatch<K>& b,
+RTT_FORCEINLINE vbool<K> shaft_accepts(const Shaft& s, const InnerRays<K>& r,
                                        const WatertightPacket<K>& wp) {
     using vf = vfloat<K>;
     using vi = vint<K>;
-    const Vec3v<K> org = b.origin();
-    vbool<K> ok = (as_int(org.x) == vi(std::bit_cast<int32_t>(s.org.x))) &
-                  (as_int(org.y) == vi(std::bit_cast<int32_t>(s.org.y))) &
-                  (as_int(org.z) == vi(std::bit_cast<int32_t>(s.org.z)));
+    vbool<K> ok = (as_int(r.org.x) == vi(std::bit_cast<int32_t>(s.org.x))) &
+                  (as_int(r.org.y) == vi(std::bit_cast<int32_t>(s.org.y))) &
+                  (as_int(r.org.z) == vi(std::bit_cast<int32_t>(s.org.z)));
     ok &= (wp.kx == vi(s.kx)) & (wp.ky == vi(s.ky)) & (wp.kz == vi(s.kz));
     for (int m = 0; m < 4; ++m)
         ok &= vf(s.edge_nx[m]) * wp.sx + vf(s.edge_ny[m]) * wp.sy >= vf(s.edge_c[m]);
-    const vf dz = abs(vf::load(b.dir[s.kz]));
-    const vf so = vf::load(b.tmin) * dz, eo = vf::load(b.tmax) * dz;
+    const vf dz = abs(s.kz == 0 ? r.dir.x : s.kz == 1 ? r.dir.y : r.dir.z);
+    const vf so = r.tmin * dz, eo = r.tmax * dz;
     ok &= (so >= vf(s.start_lo)) & (so <= vf(s.start_hi)) & (eo >= vf(s.end_lo)) &
           (eo <= vf(s.end_hi));
     return ok;
 }
 
-/// Watertight constants of a batch (see WatertightPacket).
+/// Watertight constants of the rays of `lanes` (see WatertightPacket).
 template <int K>
-RTT_FORCEINLINE WatertightPacket<K> watertight(const InnerBatch<K>& b, uint32_t used) {
-    using vf = vfloat<K>;
-    return WatertightPacket<K>(b.origin(), b.direction(), vf::load(b.tmin), vf::load(b.tmax),
-                               vbool<K>::from_bits(used));
+RTT_FORCEINLINE WatertightPacket<K> watertight(const InnerRays<K>& r, uint32_t lanes) {
+    return WatertightPacket<K>(r.org, r.dir, r.tmin, r.tmax, vbool<K>::from_bits(lanes));
 }
 
 /// Closest hits of the lanes `ok` over the list (closer(): smaller t, then smaller index).

@@ -2,6 +2,7 @@
 #include <bit>
 #include <cmath>
 
+#include "trace/packet_blocks.h"
 #include "trace/rtt_cull.h"
 #include "trace/rtt_inner.h"
 #include "trace/rtt_tracer.h"
@@ -11,15 +12,23 @@ namespace rtt::rtt_detail {
 
 // ---- shadow segments ----------------------------------------------------------------------
 
-/// The paper's condition for a shadow shaft: every sample landed on a triangle of one plane
-/// (exact plane identity), and the light is not on that plane (exact orientation).
+/// The paper's condition for a shadow shaft: the samples landed on triangles of one plane
+/// (exact plane identity), and the light is not on that plane (exact orientation). The corners
+/// must (their points span the shaft); other samples only when active: an inactive sample has
+/// no segment, and an active one on P lies inside the corners' quad on P (the primary rays of
+/// the grid are inside their pyramid), which answer_shadows checks per segment anyway.
 bool RttTracer::one_receiver_plane(const SegmentTile& tile) const {
     const uint32_t t0 = tile.triangles[0];
     if (t0 >= triangles_.size()) return false;
     const uint32_t pid = planes_.id[t0];
     if (pid == no_plane) return false;
-    for (const uint32_t t : tile.triangles)
-        if (t >= triangles_.size() || planes_.id[t] != pid) return false;
+    const auto on_plane = [&](uint32_t t) {
+        return t < triangles_.size() && planes_.id[t] == pid;
+    };
+    for (int i = 1; i < 4; ++i)
+        if (!on_plane(tile.triangles[corner_sample(tile.width, tile.height, i)])) return false;
+    for (size_t i = 0; i < tile.triangles.size(); ++i)
+        if (tile.active[i] && !on_plane(tile.triangles[i])) return false;
     const TriangleVerts& r = triangles_[planes_.representative[pid]];
     return orient3d_sign(r.v0, r.v1, r.v2, tile.light) != 0;
 }
@@ -124,11 +133,12 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
         for (int i = 0; i < n; ++i)
             if (tile.active[i] && i != cs[0] && i != cs[1] && i != cs[2] && i != cs[3]) need.set(i);
     }
-    RayPacket<fallback_width> packet;
-    for_each_needed_block<fallback_width>(
-        tile.width, tile.height, need, packet,
-        [&](int lane, int s) { packet.set(lane, shadow_ray(tile.light, tile.points[s])); },
-        [&](uint32_t active, const int* sample) {
+    for_each_block<fallback_width>(
+        tile.width, tile.height, [&](int s) { return need.test(s); },
+        [&](RayPacket<fallback_width>& packet, int lane, int s) {
+            packet.set(lane, shadow_ray(tile.light, tile.points[s]));
+        },
+        [&](const RayPacket<fallback_width>& packet, uint32_t active, const int* sample) {
             const uint32_t occ = occluded_packet<fallback_width>(tree_, triangles_, packet, active);
             for (uint32_t b = active; b; b &= b - 1) {
                 const int lane = std::countr_zero(b);
@@ -145,18 +155,21 @@ uint64_t RttTracer::answer_shadows(const SegmentTile& tile, const Shaft& s,
     constexpr int K = inner_width;
     using vf = vfloat<K>;
     const int n = int(tile.points.size());
-    const int c1 = tile.width - 1, c2 = (tile.height - 1) * tile.width, c3 = n - 1;
     const SampleAnswer how =
         blocked || list.count > 0 ? SampleAnswer::answered_list : SampleAnswer::answered_empty;
     uint64_t answered = 0;
-    InnerBatch<K> b;
-    const auto flush = [&] {
-        const uint32_t used = b.seal();
-        const WatertightPacket<K> wp = watertight<K>(b, used);
-        vbool<K> ok = shaft_accepts<K>(s, b, wp) & vbool<K>::from_bits(used);
+    for (int base = 0; base < n; base += K) {
+        const InnerRays<K> r = load_inner_segments<K>(tile.light, tile.points, base);
+        uint32_t lanes = without_corners(r, tile.width, tile.height);
+        for (uint32_t b = lanes; b; b &= b - 1)
+            if (!tile.active[size_t(base + std::countr_zero(b))])
+                lanes &= ~(1u << std::countr_zero(b));
+        if (!lanes) continue;
+        const WatertightPacket<K> wp = watertight<K>(r, lanes);
+        vbool<K> ok = shaft_accepts<K>(s, r, wp) & vbool<K>::from_bits(lanes);
         // The point on the light's side of the receiver plane or within receiver_tol beyond
         // it: v = n.w + H (w = p - L as the segment has it), with its rounding.
-        const Vec3v<K> w = b.direction();
+        const Vec3v<K>& w = r.dir;
         const vf nx = vf(receiver.n.x) * w.x, ny = vf(receiver.n.y) * w.y,
                  nz = vf(receiver.n.z) * w.z;
         const vf v = ((nx + ny) + nz) + vf(receiver.h);
@@ -165,24 +178,14 @@ uint64_t RttTracer::answer_shadows(const SegmentTile& tile, const Shaft& s,
         vbool<K> occ = vbool<K>(blocked);
         if (!blocked && list.count > 0) occ = occluded_by_list<K>(wp, ok, list, triangles_);
         const uint32_t good = movemask(ok), occ_bits = movemask(occ);
-        for (int l = 0; l < b.count; ++l) {
-            const int smp = b.sample[l];
-            if ((good >> l) & 1u) {
-                visible[smp] = !((occ_bits >> l) & 1u);
-                if (!answers.empty()) answers[smp] = how;
-                ++answered;
-            } else {
-                need.set(smp);
-            }
+        need.set_lanes(base, lanes & ~good);
+        answered += uint64_t(std::popcount(good));
+        for (uint32_t b = good; b; b &= b - 1) {
+            const int l = std::countr_zero(b);
+            visible[size_t(base + l)] = !((occ_bits >> l) & 1u);
+            if (!answers.empty()) answers[size_t(base + l)] = how;
         }
-        b.count = 0;
-    };
-    for (int i = 1; i < n; ++i) {
-        if (i == c1 || i == c2 || i == c3 || !tile.active[i]) continue;
-        b.add(i, shadow_ray(tile.light, tile.points[i]));
-        if (b.count == K) flush();
     }
-    if (b.count) flush();
     return answered;
 }
 

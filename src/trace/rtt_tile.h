@@ -1,6 +1,5 @@
 // Tile-level helpers of the RTT tracer (trace_rtt.cpp): which samples still need tracing, the
-// corner rays of a tile, the packet fallback over the samples left, and the plane a shaft's
-// rays end on.
+// corner rays of a tile, and the plane a shaft's rays end on.
 #pragma once
 
 #include <bit>
@@ -26,6 +25,9 @@ struct SampleBits {
         for (int i = 0; i < (n + 63) / 64; ++i) w[i] = 0;
     }
     void set(int s) { w[s >> 6] |= uint64_t(1) << (s & 63); }
+    /// Sets samples base + i for the bits i of `lanes` (base a multiple of the lane count, so
+    /// they share one word).
+    void set_lanes(int base, uint32_t lanes) { w[base >> 6] |= uint64_t(lanes) << (base & 63); }
     bool test(int s) const { return (w[s >> 6] >> (s & 63)) & 1u; }
 };
 
@@ -41,33 +43,6 @@ inline auto corners_of(const SegmentTile& tile, Ray (&corners)[4], int (&cs)[4])
         corners[i] =
             shadow_ray(tile.light, tile.points[cs[i] = corner_sample(tile.width, tile.height, i)]);
     return corners;
-}
-
-/// Calls run(active lanes, sample per lane) for each packet-shaped block of the tile holding
-/// samples marked in `need`, after stage(lane, sample) filled the packet's lanes.
-template <int FK, typename Stage, typename Run>
-void for_each_needed_block(int width, int height, const SampleBits& need, RayPacket<FK>& packet,
-                           Stage&& stage, Run&& run) {
-    constexpr int pw = packet_width<FK>, ph = packet_height<FK>;
-    int sample[FK];
-    for (int y0 = 0; y0 < height; y0 += ph)
-        for (int x0 = 0; x0 < width; x0 += pw) {
-            uint32_t active = 0;
-            for (int ly = 0; ly < ph; ++ly)
-                for (int lx = 0; lx < pw; ++lx) {
-                    const int lane = ly * pw + lx, x = x0 + lx, y = y0 + ly;
-                    sample[lane] = -1;
-                    if (x >= width || y >= height || !need.test(y * width + x)) continue;
-                    sample[lane] = y * width + x;
-                    active |= 1u << lane;
-                    stage(lane, sample[lane]);
-                }
-            if (!active) continue;
-            const int donor = std::countr_zero(active);
-            for (uint32_t b = ~active & all_lanes<FK>; b; b &= b - 1)
-                packet.set(std::countr_zero(b), packet.get(donor));
-            run(active, sample);
-        }
 }
 
 /// A plane seen from an apex: unit normal n oriented so the apex is on the positive side, at

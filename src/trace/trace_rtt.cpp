@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "trace/factories.h"
+#include "trace/packet_blocks.h"
 #include "trace/rtt_cull.h"
 #include "trace/rtt_inner.h"
 #include "trace/rtt_tracer.h"
@@ -210,11 +211,10 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         for (int s = 0; s < n; ++s)
             if (s != cs[0] && s != cs[1] && s != cs[2] && s != cs[3]) need.set(s);
     }
-    RayPacket<fallback_width> packet;
-    for_each_needed_block<fallback_width>(
-        tile.width, tile.height, need, packet,
-        [&](int lane, int s) { packet.set(lane, tile.rays[s]); },
-        [&](uint32_t active, const int* sample) {
+    for_each_block<fallback_width>(
+        tile.width, tile.height, [&](int s) { return need.test(s); },
+        [&](RayPacket<fallback_width>& packet, int lane, int s) { packet.set(lane, tile.rays[s]); },
+        [&](const RayPacket<fallback_width>& packet, uint32_t active, const int* sample) {
             Hit out[fallback_width];
             trace_packet<fallback_width>(tree_, triangles_, packet, active, out);
             for (uint32_t b = active; b; b &= b - 1)
@@ -229,51 +229,44 @@ uint64_t RttTracer::answer_primary(const RayTile& tile, const Shaft& s, const Re
     constexpr int K = inner_width;
     using vf = vfloat<K>;
     const int n = int(tile.rays.size());
-    const int c1 = tile.width - 1, c2 = (tile.height - 1) * tile.width, c3 = n - 1;
     uint64_t answered = 0;
-    InnerBatch<K> b;
-    const auto flush = [&] {
-        const uint32_t used = b.seal();
-        const WatertightPacket<K> wp = watertight<K>(b, used);
-        vbool<K> ok = shaft_accepts<K>(s, b, wp) & vbool<K>::from_bits(used);
+    for (int base = 0; base < n; base += K) {
+        const InnerRays<K> r = load_inner_rays<K>(tile.rays, base);
+        const uint32_t lanes = without_corners(r, tile.width, tile.height);
+        if (!lanes) continue;
+        const WatertightPacket<K> wp = watertight<K>(r, lanes);
+        vbool<K> ok = shaft_accepts<K>(s, r, wp) & vbool<K>::from_bits(lanes);
         const PacketHit<K> best = closest_in_list<K>(wp, ok, list, triangles_);
         // Taken only when the answer lies inside R (its offset, and the distance
         // g = h + t n.d of the hit point from P, with its rounding): the segment up to it is
         // in R, so nothing outside the list can come first.
         const vf t = best.t;
-        ok &= (best.tri != vint<K>(int32_t(invalid_triangle))) &
-              (t * abs(vf::load(b.dir[s.kz])) <= vf(end_limit));
+        const vf dz = abs(s.kz == 0 ? r.dir.x : s.kz == 1 ? r.dir.y : r.dir.z);
+        ok &= (best.tri != vint<K>(int32_t(invalid_triangle))) & (t * dz <= vf(end_limit));
         // g is affine along the ray: checking the answer and the start (reflected rays start
         // away from the apex) covers the whole segment.
         if (end) {
-            const Vec3v<K> d = b.direction();
+            const Vec3v<K>& d = r.dir;
             const vf nx = vf(end->n.x) * d.x, ny = vf(end->n.y) * d.y, nz = vf(end->n.z) * d.z;
             const vf nd = (nx + ny) + nz, and_ = (abs(nx) + abs(ny)) + abs(nz);
-            const vf t0 = vf::load(b.tmin);
-            const vf g = vf(end->h) + t * nd, g0 = vf(end->h) + t0 * nd;
+            const vf g = vf(end->h) + t * nd, g0 = vf(end->h) + r.tmin * nd;
             const vf err = vf(8.f * unit_roundoff) * (vf(end->h) + t * and_);
-            const vf err0 = vf(8.f * unit_roundoff) * (vf(end->h) + t0 * and_);
+            const vf err0 = vf(8.f * unit_roundoff) * (vf(end->h) + r.tmin * and_);
             ok &= (g - err >= vf(-end_tol)) & (g0 - err0 >= vf(-end_tol));
         }
         const uint32_t good = movemask(ok);
-        for (int l = 0; l < b.count; ++l) {
-            const int smp = b.sample[l];
-            if ((good >> l) & 1u) {
-                hits[smp] = Hit{best.t[l], uint32_t(best.tri[l])};
-                if (!answers.empty()) answers[smp] = SampleAnswer::answered_list;
-                ++answered;
-            } else {
-                need.set(smp);
-            }
+        need.set_lanes(base, lanes & ~good);
+        answered += uint64_t(std::popcount(good));
+        alignas(64) float ts[K];
+        alignas(64) int32_t tris[K];
+        store(ts, best.t);
+        store(tris, best.tri);
+        for (uint32_t b = good; b; b &= b - 1) {
+            const int l = std::countr_zero(b);
+            hits[size_t(base + l)] = Hit{ts[l], uint32_t(tris[l])};
+            if (!answers.empty()) answers[size_t(base + l)] = SampleAnswer::answered_list;
         }
-        b.count = 0;
-    };
-    for (int i = 1; i < n; ++i) {
-        if (i == c1 || i == c2 || i == c3) continue;
-        b.add(i, tile.rays[i]);
-        if (b.count == K) flush();
     }
-    if (b.count) flush();
     return answered;
 }
 
