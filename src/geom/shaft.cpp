@@ -45,8 +45,7 @@ bool make_shaft(const Ray (&c)[4], Shaft& s) {
     const float cx[4] = {s.sx[0], s.sx[1], s.sx[3], s.sx[2]},
                 cy[4] = {s.sy[0], s.sy[1], s.sy[3], s.sy[2]};
     const auto rot = [](const float(&c)[4], int k) {
-        alignas(16) const float r[4] = {c[k & 3], c[(k + 1) & 3], c[(k + 2) & 3], c[(k + 3) & 3]};
-        return vf::load(r);
+        return vf::setr(c[k & 3], c[(k + 1) & 3], c[(k + 2) & 3], c[(k + 3) & 3]);
     };
     const vf px = rot(cx, 0), py = rot(cy, 0), px1 = rot(cx, 1), py1 = rot(cy, 1);
     const vf ex = px1 - px, ey = py1 - py;                            // edge m

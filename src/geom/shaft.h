@@ -125,10 +125,7 @@ struct BoxV {
     vfloat4 lo, hi;
     BoxV() = default;
     explicit BoxV(const Bbox3f& b) : lo(lanes(b.lo)), hi(lanes(b.hi)) {}
-    static vfloat4 lanes(const Vec3f& v) {
-        alignas(16) const float a[4] = {v.x, v.y, v.z, 0.f};
-        return vfloat4::load(a);
-    }
+    static vfloat4 lanes(const Vec3f& v) { return vfloat4::setr(v.x, v.y, v.z, 0.f); }
 };
 
 /// Up to 4 half-spaces n . (x - org) >= c, one per SIMD lane, tested against boxes. A box is
@@ -239,20 +236,15 @@ private:
                                abs(p.nz) * vf(extent_.z));
     }
     void load_slab() {
-        alignas(16) float nx[4], ny[4], nz[4];
-        for (int l = 0; l < 4; ++l) {
-            nx[l] = n_[l][0];
-            ny[l] = n_[l][1];
-            nz[l] = n_[l][2];
-        }
-        slab.nx = vfloat4::load(nx);
-        slab.ny = vfloat4::load(ny);
-        slab.nz = vfloat4::load(nz);
-        slab.limit = vfloat4::load(c_) - tolerance(slab);
+        using vf = vfloat4;
+        slab.nx = vf::setr(n_[0][0], n_[1][0], n_[2][0], n_[3][0]);
+        slab.ny = vf::setr(n_[0][1], n_[1][1], n_[2][1], n_[3][1]);
+        slab.nz = vf::setr(n_[0][2], n_[1][2], n_[2][2], n_[3][2]);
+        slab.limit = vf::setr(c_[0], c_[1], c_[2], c_[3]) - tolerance(slab);
     }
     Vec3f extent_;
     float n_[4][3] = {};                               // unused lanes: n = 0,
-    alignas(16) float c_[4] = {0.f, 0.f, -1.f, -1.f};  // c = -1: never separating
+    float c_[4] = {0.f, 0.f, -1.f, -1.f};  // c = -1: never separating
 };
 
 /// One triangle against the 4 corners.

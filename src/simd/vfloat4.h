@@ -19,6 +19,11 @@ struct alignas(16) vfloat<4> {
 
     static RTT_FORCEINLINE vfloat load(const float* p) { return _mm_load_ps(p); }
     static RTT_FORCEINLINE vfloat loadu(const float* p) { return _mm_loadu_ps(p); }
+    /// Lanes (a, b, c, d), built in registers: a vector loaded from scalars just stored to
+    /// memory would wait on store forwarding.
+    static RTT_FORCEINLINE vfloat setr(float a, float b, float c, float d) {
+        return _mm_setr_ps(a, b, c, d);
+    }
 
     RTT_FORCEINLINE float operator[](int i) const { return v[i]; }
     RTT_FORCEINLINE void set(int i, float s) { v[i] = s; }

@@ -3,6 +3,7 @@
 
 #include <immintrin.h>
 
+#include "simd/vfloat4.h"
 #include "simd/vint8.h"
 
 namespace rtt {
@@ -160,6 +161,11 @@ RTT_FORCEINLINE void load_records3(const float* p, vfloat8 (&out)[3]) {
     out[0] = _mm256_blend_ps(_mm256_blend_ps(from[0][0], from[0][1], 0x38), from[0][2], 0xC0);
     out[1] = _mm256_blend_ps(_mm256_blend_ps(from[1][0], from[1][1], 0x18), from[1][2], 0xE0);
     out[2] = _mm256_blend_ps(_mm256_blend_ps(from[2][0], from[2][1], 0x1C), from[2][2], 0xE0);
+}
+
+/// The 8 lanes (lo[0..3], hi[0..3]).
+RTT_FORCEINLINE vfloat8 combine(vfloat4 lo, vfloat4 hi) {
+    return _mm256_insertf128_ps(_mm256_castps128_ps256(lo), hi, 1);
 }
 
 }  // namespace rtt

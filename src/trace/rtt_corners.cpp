@@ -28,13 +28,16 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
     mailbox.begin(triangles.size());
     if (tree.nodes.empty()) return CornerStatus::traced;
     const Vec3f org = shaft.org;
-    alignas(16) float d[3][4], tmin[4], tmax[4];
-    for (int i = 0; i < 4; ++i) {
-        for (int a = 0; a < 3; ++a) d[a][i] = corners[i].dir[a];
-        tmin[i] = corners[i].tmin;
-        tmax[i] = corners[i].tmax;
-    }
-    const vf dir[3] = {vf::load(d[0]), vf::load(d[1]), vf::load(d[2])};
+    // Built in registers (a vector loaded from scalars just stored would wait on store
+    // forwarding).
+    const auto lanes_of = [&](auto field) {
+        return vf::setr(field(corners[0]), field(corners[1]), field(corners[2]), field(corners[3]));
+    };
+    const vf dir[3] = {lanes_of([](const Ray& r) { return r.dir.x; }),
+                       lanes_of([](const Ray& r) { return r.dir.y; }),
+                       lanes_of([](const Ray& r) { return r.dir.z; })};
+    const vf ray_tmin = lanes_of([](const Ray& r) { return r.tmin; });
+    const vf ray_tmax = lanes_of([](const Ray& r) { return r.tmax; });
     const vf inv[3] = {rcp(dir[0]), rcp(dir[1]), rcp(dir[2])};  // 1.f / d, as trace_ray
     bool above_first[3];
     vb zero_dir[3];
@@ -53,7 +56,7 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
     // trace_ray's clip to the padded root box (a NaN slab distance never shrinks the interval)
     // and its scene_t_scale per lane (the origin is common, only max|dir| differs).
     const Bbox3f padded = padded_bounds(tree.bounds);
-    vf t0 = vf::load(tmin), t1 = vf::load(tmax);
+    vf t0 = ray_tmin, t1 = ray_tmax;
     float dist = 0.f;
     for (int a = 0; a < 3; ++a) {
         const vf tn = vf(padded.lo[a] - org[a]) * inv[a];
@@ -66,7 +69,7 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
     }
     const vf tscale = vf(dist) / max(max(abs(dir[0]), abs(dir[1])), abs(dir[2]));
     // Widen what the box cut by the split margin, within [tmin, tmax], as trace_ray does.
-    const vf lane_min = vf::load(tmin), lane_max = vf::load(tmax);
+    const vf lane_min = ray_tmin, lane_max = ray_tmax;
     t0 = select(t0 > lane_min, max(t0 - (abs(t0) + tscale) * vf(kd_margin), lane_min), lane_min);
     t1 = select(t1 < lane_max, min(t1 + (abs(t1) + tscale) * vf(kd_margin), lane_max), lane_max);
     const uint32_t entering = movemask(t0 <= t1);
@@ -99,7 +102,7 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
         d.node[d.count++] = node;
     };
     PacketHit<4> best;
-    vf lane_tmax = vf::load(tmax);
+    vf lane_tmax = ray_tmax;
     const vf margin(kd_margin);
     CornerStackEntry stack[kd_max_depth + 1];
     int top = 0;

@@ -45,26 +45,6 @@ enum class Narrowed {
     abandon,  ///< The tile will not be answered from a list: stop, nothing is answered.
 };
 
-/// The region's 8 half-spaces, lane l of n[a] / limit (ShaftRegion's cone and slab lanes).
-struct CullPlanes {
-    alignas(32) float n[3][8];
-    alignas(32) float limit[8];
-
-    void load(const ShaftRegion& r) {
-        for (int l = 0; l < 4; ++l) {
-            n[0][l] = r.cone.nx[l];
-            n[1][l] = r.cone.ny[l];
-            n[2][l] = r.cone.nz[l];
-            limit[l] = r.cone.limit[l];
-            n[0][4 + l] = r.slab.nx[l];
-            n[1][4 + l] = r.slab.ny[l];
-            n[2][4 + l] = r.slab.nz[l];
-            // Without a slab every lane of it passes (ShaftRegion::use_slab).
-            limit[4 + l] = r.use_slab ? r.slab.limit[l] : neg_inf;
-        }
-    }
-};
-
 /// Walks the kd-tree through the shaft (file comment). The corners of `shaft` are traced as
 /// test_corners traces them: AnyHit = false closest hits (out.hit), true occluded segments
 /// (out.occluded, to their ends unless one triangle blocks them all). `region` must hold every
@@ -89,14 +69,26 @@ CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> trian
     mailbox.begin(triangles.size());
     if (tree.nodes.empty()) return CornerStatus::traced;
 
-    CullPlanes planes;
-    planes.load(region);
+    // The region's 8 half-spaces: the cone in lanes 0-3, the slab and end plane in 4-7 (without
+    // a slab every lane of it passes, ShaftRegion::use_slab). Built in registers.
     vf n[3][C], limit[C];
     const auto load_planes = [&] {
-        for (int c = 0; c < C; ++c) {
-            for (int a = 0; a < 3; ++a) n[a][c] = vf::load(planes.n[a] + c * W);
-            limit[c] = vf::load(planes.limit + c * W);
+        const vf4 cone_n[3] = {region.cone.nx, region.cone.ny, region.cone.nz};
+        const vf4 slab_n[3] = {region.slab.nx, region.slab.ny, region.slab.nz};
+        const vf4 slab_limit = region.use_slab ? region.slab.limit : vf4(neg_inf);
+#ifdef RTT_HAVE_SIMD8
+        static_assert(C == 1);
+        for (int a = 0; a < 3; ++a) n[a][0] = combine(cone_n[a], slab_n[a]);
+        limit[0] = combine(region.cone.limit, slab_limit);
+#else
+        static_assert(C == 2);
+        for (int a = 0; a < 3; ++a) {
+            n[a][0] = cone_n[a];
+            n[a][1] = slab_n[a];
         }
+        limit[0] = region.cone.limit;
+        limit[1] = slab_limit;
+#endif
     };
     load_planes();
     const float org[3] = {shaft.org.x, shaft.org.y, shaft.org.z};
@@ -251,7 +243,6 @@ CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> trian
                 const Narrowed r = narrow(best, region);
                 if (r == Narrowed::abandon) return CornerStatus::untraced;
                 if (r == Narrowed::smaller) {
-                    planes.load(region);
                     load_planes();
                     ++generation;
                 }
