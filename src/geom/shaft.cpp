@@ -2,6 +2,8 @@
 
 #include <bit>
 
+#include "geom/triangle_simd.h"
+
 namespace rtt {
 namespace {
 
@@ -22,26 +24,32 @@ bool make_shaft(const Ray (&c)[4], Shaft& s) {
         if (!is_finite(r.org) || !is_finite(r.dir) || !same_bits(r.org, c[0].org)) return false;
         if (!(r.tmin >= 0.f && r.tmin <= r.tmax)) return false;  // also rejects NaN
     }
-    const WatertightRay w0(c[0]);
-    if (c[0].dir[w0.kz] == 0.f) return false;
-    for (int i = 0; i < 4; ++i) {
-        const WatertightRay w(c[i]);
-        if (w.kx != w0.kx || w.ky != w0.ky || w.kz != w0.kz) return false;
-        s.sx[i] = w.sx;
-        s.sy[i] = w.sy;
-        s.sz[i] = w.sz;
-        s.tmin[i] = c[i].tmin;
-        s.tmax[i] = c[i].tmax;
-    }
+    // The corners' WatertightRay constants, 4 lanes at once (WatertightPacket is
+    // WatertightRay lane for lane, bit for bit): one permutation for all, or no shaft.
+    using vf = vfloat4;
+    const auto lanes_of = [&](auto field) {
+        return vf::setr(field(c[0]), field(c[1]), field(c[2]), field(c[3]));
+    };
+    const Vec3v<4> dir{lanes_of([](const Ray& r) { return r.dir.x; }),
+                       lanes_of([](const Ray& r) { return r.dir.y; }),
+                       lanes_of([](const Ray& r) { return r.dir.z; })};
+    const vf tmin = lanes_of([](const Ray& r) { return r.tmin; });
+    const vf tmax = lanes_of([](const Ray& r) { return r.tmax; });
+    const WatertightPacket<4> w(Vec3v<4>(c[0].org), dir, tmin, tmax, vbool4(true));
+    if (!w.uniform || c[0].dir[w.ukz] == 0.f) return false;
+    store(s.sx, w.sx);
+    store(s.sy, w.sy);
+    store(s.sz, w.sz);
+    store(s.tmin, tmin);
+    store(s.tmax, tmax);
     s.org = c[0].org;
-    s.kx = w0.kx;
-    s.ky = w0.ky;
-    s.kz = w0.kz;
-    s.sign_z = c[0].dir[w0.kz] < 0.f ? -1.f : 1.f;
+    s.kx = w.ukx;
+    s.ky = w.uky;
+    s.kz = w.ukz;
+    s.sign_z = c[0].dir[w.ukz] < 0.f ? -1.f : 1.f;
 
     // The slope quad in cyclic order q = 0, 1, 3, 2, one edge per SIMD lane: edge m runs from
     // corner q[m] to corner q[m+1]. rot(k) holds the corners shifted by k.
-    using vf = vfloat4;
     const float cx[4] = {s.sx[0], s.sx[1], s.sx[3], s.sx[2]},
                 cy[4] = {s.sy[0], s.sy[1], s.sy[3], s.sy[2]};
     const auto rot = [](const float(&c)[4], int k) {

@@ -16,8 +16,9 @@
 //     packets. Otherwise the inner rays are intersected with the list K at a time
 //     (rtt_inner.h); an inner answer is taken when the ray passes the shaft check and its
 //     answer lies inside R; any other inner ray is traced.
-//  3. Shadow tiles (occluded): when every sample of the tile hit a triangle of one plane and the
-//     light is not on it (exact orientation), R ends at that plane and is known before the walk:
+//  3. Shadow tiles (occluded): when the corners and every active sample of the tile hit
+//     triangles of one plane and the light is not on it (exact orientation), R ends at that
+//     plane and is known before the walk:
 //     an empty list means visible, a whole-tile occluder (CornerVerdict::blocks_all) blocked,
 //     otherwise each inner segment is tested against the list (any hit).
 // Everything else (tiles without shaft, inner rays failing a check) is traced by the SIMD
