@@ -311,6 +311,70 @@ TEST(Rtt, LightOnTheReceiverPlane) {
     EXPECT_EQ(tally.segment_mismatches, 0u);
 }
 
+// Shaft tiles of any grid size (here not multiples of the 8 or 16 lanes the inner rays go in,
+// so the last block of a tile is partly past its end), primary and shadow, against brute force.
+TEST(Rtt, GridsOfAnySizeMatchBruteForce) {
+    const Scene scene = scene_of(room({0, 0, 0}));
+    const KdTree tree = build_kdtree(scene);
+    const auto rtt = make_tracer("rtt", scene, tree);
+    const auto ref = make_tracer("brute", scene, tree);
+    const CameraRays cam(Camera{{4, 2, 3.5f}, {-2, 1, -3}, {0, 1, 0}, 60}, 120, 90, 3);
+    const Vec3f light{0, 3.5f, 0};
+    uint64_t rays = 0, mismatches = 0, answered = 0, segments = 0, segments_answered = 0;
+    for (const auto& [w, h] :
+         {std::pair(5, 3), std::pair(6, 6), std::pair(9, 7), std::pair(13, 11), std::pair(19, 2)}) {
+        const size_t n = size_t(w * h);
+        std::vector<Hit> got(n), want(n);
+        std::vector<SampleAnswer> how(n);
+        std::vector<Vec3f> points(n);
+        std::vector<uint32_t> tris(n);
+        std::vector<uint8_t> active(n), vis_got(n), vis_want(n);
+        for (int y0 = 0; y0 + h <= 270; y0 += h + 17)
+            for (int x0 = 0; x0 + w <= 360; x0 += w + 23) {
+                // Samples (x0 + x, y0 + y) of the image's 360 x 270 sample grid, row by row.
+                std::vector<Ray> grid;
+                for (int y = 0; y < h; ++y)
+                    for (int x = 0; x < w; ++x) {
+                        const int sx = x0 + x, sy = y0 + y;
+                        grid.push_back(Ray{cam.origin(),
+                                           cam.direction(sx / 3, sy / 3, sx % 3, sy % 3), 0.f,
+                                           pos_inf});
+                    }
+                const RayTile tile{w, h, grid, true};
+                rtt->intersect(tile, got, nullptr, how);
+                ref->intersect(tile, want);
+                for (size_t i = 0; i < n; ++i) {
+                    ++rays;
+                    mismatches += !same_hit(got[i], want[i]);
+                    answered += how[i] != SampleAnswer::traced;
+                    active[i] = want[i].valid() && i % 5 != 2;
+                    points[i] = active[i] ? grid[i].org + want[i].t * grid[i].dir : grid[i].org;
+                    tris[i] = want[i].tri;
+                }
+                const SegmentTile seg{w, h, light, points, tris, active, true};
+                rtt->occluded(seg, vis_got, nullptr, how);
+                ref->occluded(seg, vis_want);
+                for (size_t i = 0; i < n; ++i) {
+                    if (!active[i]) {
+                        EXPECT_EQ(vis_got[i], 0);
+                        continue;
+                    }
+                    ++segments;
+                    mismatches += vis_got[i] != vis_want[i];
+                    segments_answered += how[i] != SampleAnswer::traced;
+                }
+            }
+    }
+    std::printf(
+        "[  rtt     ] grids of any size: rays %llu answered %llu, segments %llu answered "
+        "%llu, mismatches %llu\n",
+        (unsigned long long)rays, (unsigned long long)answered, (unsigned long long)segments,
+        (unsigned long long)segments_answered, (unsigned long long)mismatches);
+    EXPECT_EQ(mismatches, 0u);
+    EXPECT_GT(answered, rays / 4);
+    EXPECT_GT(segments_answered, segments / 8);
+}
+
 // The built-in room at two views: the scene of the paper's experiments.
 TEST(Rtt, BuiltinRoomMatchesReference) {
     const Scene scene = make_builtin_scene("room");

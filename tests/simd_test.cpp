@@ -200,8 +200,7 @@ TYPED_TEST(Simd, IntegersMatchScalar) {
             b[i] = rng() % 3 ? int32_t(rng()) : (rng() % 2 ? a[i] : specials[rng() % 6]);
         }
         const vi x = vi::load(a), y = vi::loadu(b);
-        const vi sum = x + y, diff = x - y, prod = x * y, band = x & y, bor = x | y,
-                 bxor = x ^ y;
+        const vi sum = x + y, diff = x - y, prod = x * y, band = x & y, bor = x | y, bxor = x ^ y;
         const vi mn = min(x, y), mx = max(x, y), sel = select(x < y, x, y);
         const uint32_t eq = movemask(x == y), ne = movemask(x != y), lt = movemask(x < y);
         const uint32_t gt = movemask(x > y), ul = movemask(ult(x, y));

@@ -244,7 +244,7 @@ private:
     }
     Vec3f extent_;
     float n_[4][3] = {};                               // unused lanes: n = 0,
-    float c_[4] = {0.f, 0.f, -1.f, -1.f};  // c = -1: never separating
+    float c_[4] = {0.f, 0.f, -1.f, -1.f};              // c = -1: never separating
 };
 
 /// One triangle against the 4 corners.

@@ -33,8 +33,8 @@ struct InnerRays {
 /// (load_records8/3: staging them through memory with scalar stores made every vector load
 /// wait on store forwarding); a block past the end is padded with the last record.
 template <int K, int Floats, typename Record>
-RTT_FORCEINLINE void load_block(std::span<const Record> records, int base,
-                                vfloat<K> (&out)[Floats], uint32_t& lanes) {
+RTT_FORCEINLINE void load_block(std::span<const Record> records, int base, vfloat<K> (&out)[Floats],
+                                uint32_t& lanes) {
     static_assert(sizeof(Record) == Floats * sizeof(float) && std::is_standard_layout_v<Record>);
     const int n = int(records.size());
     const auto load = [&](const float* p) {

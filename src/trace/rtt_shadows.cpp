@@ -22,9 +22,7 @@ bool RttTracer::one_receiver_plane(const SegmentTile& tile) const {
     if (t0 >= triangles_.size()) return false;
     const uint32_t pid = planes_.id[t0];
     if (pid == no_plane) return false;
-    const auto on_plane = [&](uint32_t t) {
-        return t < triangles_.size() && planes_.id[t] == pid;
-    };
+    const auto on_plane = [&](uint32_t t) { return t < triangles_.size() && planes_.id[t] == pid; };
     for (int i = 1; i < 4; ++i)
         if (!on_plane(tile.triangles[corner_sample(tile.width, tile.height, i)])) return false;
     for (size_t i = 0; i < tile.triangles.size(); ++i)

@@ -5,8 +5,8 @@
 #include "geom/triangle_simd.h"
 #include "simd/simd.h"
 #include "trace/factories.h"
-#include "trace/trace_ray.h"
 #include "trace/packet_blocks.h"
+#include "trace/trace_ray.h"
 #include "trace/traced_tile.h"
 
 namespace rtt {
