@@ -109,7 +109,7 @@ RTT_FORCEINLINE vbool<K> shaft_accepts(const Shaft& s, const InnerRays<K>& r,
     ok &= (wp.kx == vi(s.kx)) & (wp.ky == vi(s.ky)) & (wp.kz == vi(s.kz));
     for (int m = 0; m < 4; ++m)
         ok &= vf(s.edge_nx[m]) * wp.sx + vf(s.edge_ny[m]) * wp.sy >= vf(s.edge_c[m]);
-    const vf dz = abs(s.kz == 0 ? r.dir.x : s.kz == 1 ? r.dir.y : r.dir.z);
+    const vf dz = abs(r.dir[s.kz]);
     const vf so = r.tmin * dz, eo = r.tmax * dz;
     ok &= (so >= vf(s.start_lo)) & (so <= vf(s.start_hi)) & (eo >= vf(s.end_lo)) &
           (eo <= vf(s.end_hi));

@@ -131,6 +131,7 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
         for (int i = 0; i < n; ++i)
             if (tile.active[i] && i != cs[0] && i != cs[1] && i != cs[2] && i != cs[3]) need.set(i);
     }
+    if (need.none(n)) return;
     for_each_block<fallback_width>(
         tile.width, tile.height, [&](int s) { return need.test(s); },
         [&](RayPacket<fallback_width>& packet, int lane, int s) {

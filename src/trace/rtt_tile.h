@@ -29,6 +29,12 @@ struct SampleBits {
     /// they share one word).
     void set_lanes(int base, uint32_t lanes) { w[base >> 6] |= uint64_t(lanes) << (base & 63); }
     bool test(int s) const { return (w[s >> 6] >> (s & 63)) & 1u; }
+    /// True when none of the first n samples is set.
+    bool none(int n) const {
+        uint64_t any = 0;
+        for (int i = 0; i < (n + 63) / 64; ++i) any |= w[i];
+        return any == 0;
+    }
 };
 
 /// The corner rays of a tile (corner_sample order) and their sample indices.

@@ -211,6 +211,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         for (int s = 0; s < n; ++s)
             if (s != cs[0] && s != cs[1] && s != cs[2] && s != cs[3]) need.set(s);
     }
+    if (need.none(n)) return;
     for_each_block<fallback_width>(
         tile.width, tile.height, [&](int s) { return need.test(s); },
         [&](RayPacket<fallback_width>& packet, int lane, int s) { packet.set(lane, tile.rays[s]); },
@@ -241,7 +242,7 @@ uint64_t RttTracer::answer_primary(const RayTile& tile, const Shaft& s, const Re
         // g = h + t n.d of the hit point from P, with its rounding): the segment up to it is
         // in R, so nothing outside the list can come first.
         const vf t = best.t;
-        const vf dz = abs(s.kz == 0 ? r.dir.x : s.kz == 1 ? r.dir.y : r.dir.z);
+        const vf dz = abs(r.dir[s.kz]);
         ok &= (best.tri != vint<K>(int32_t(invalid_triangle))) & (t * dz <= vf(end_limit));
         // g is affine along the ray: checking the answer and the start (reflected rays start
         // away from the apex) covers the whole segment.
