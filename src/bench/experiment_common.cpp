@@ -44,6 +44,12 @@ std::vector<std::string> available(const std::vector<std::string>& wanted) {
     return out;
 }
 
+std::string widest_packet() {
+    for (const char* k : {"packet16", "packet8"})
+        if (has_tracer(k)) return k;
+    return "packet";
+}
+
 Measurement run_measurement(const BenchConfig& config, const BenchScene& scene,
                             const std::vector<NamedTracer>& tracers, int width, int height, int aa,
                             int threads) {

@@ -17,6 +17,10 @@ const char* clock_name(ClockKind clock);
 /// The kinds of `wanted` this build has, in order.
 std::vector<std::string> available(const std::vector<std::string>& wanted);
 
+/// The widest packet tracer of this build ("packet16", else "packet8", else "packet"): the
+/// width of RTT's own fallback, so rtt against it is the same-width comparison.
+std::string widest_packet();
+
 /// Measures `tracers` on scene x (w, h, K) with the config's repetitions, logging one line.
 Measurement run_measurement(const BenchConfig& config, const BenchScene& scene,
                             const std::vector<NamedTracer>& tracers, int width, int height, int aa,

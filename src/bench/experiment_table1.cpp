@@ -81,6 +81,11 @@ std::vector<Table1Row> table1_rows() {
                         [=](const paper::Table1Column& p) {
                             return format_ratio(shadow ? p.shadow_speedup() : p.primary_speedup());
                         }});
+        rows.push_back({"speed-up rtt/" + widest_packet() + " " + kind,
+                        [=](const Measurement& m, ClockKind c) {
+                            return format_ratio(speedup(m, "rtt", widest_packet(), shadow, c));
+                        },
+                        [](const paper::Table1Column&) { return std::string("-"); }});
         rows.push_back({"Mrays/s " + kind + " packet / rtt",
                         [=](const Measurement& m, ClockKind c) {
                             std::string s = stat_of(m, "packet", shadow, [c](const KindResult& k) {
@@ -104,7 +109,7 @@ ExperimentResult run_table1(const BenchConfig& config, SceneCache& scenes) {
     r.id = "table1";
     r.title = "Table 1: packet (4-wide SSE) and rtt at " + size_label(w, h) + ", no antialiasing";
     std::fprintf(config.log, "\n== %s\n", r.title.c_str());
-    const std::vector<std::string> kinds = available({"packet", "rtt"});
+    const std::vector<std::string> kinds = available({"packet", widest_packet(), "rtt"});
     for (const std::string& name : config.scenes) {
         const BenchScene& scene = scenes.get(name);
         r.measurements.push_back(
@@ -145,6 +150,9 @@ ExperimentResult run_table1(const BenchConfig& config, SceneCache& scenes) {
         if (const paper::Table1Column* p = paper::table1_column(m.scene))
             line += " (paper " + format_ratio(p->primary_speedup()) + ", " +
                     format_ratio(p->shadow_speedup()) + ")";
+        line += "; rtt/" + widest_packet() + " " +
+                format_ratio(speedup(m, "rtt", widest_packet(), false, clock)) + " / " +
+                format_ratio(speedup(m, "rtt", widest_packet(), true, clock));
         if (!config.quick() && (m.scene == "room" || m.scene == "office"))
             line += "; issue-5 target >= " + format_ratio(paper::target_speedup_640) +
                     ": primary " + verdict(sp, paper::target_speedup_640) + ", shadow " +
@@ -169,31 +177,41 @@ ExperimentResult run_hq(const BenchConfig& config, SceneCache& scenes) {
     r.title = "High quality: " + name + " at " + size_label(w, h) + " with 6x6 antialiasing";
     std::fprintf(config.log, "\n== %s\n", r.title.c_str());
     const BenchScene& scene = scenes.get(name);
-    r.measurements.push_back(run_measurement(
-        config, scene, make_tracers(scene, available({"packet", "rtt"})), w, h, k, config.threads));
+    const std::string wide = widest_packet();
+    r.measurements.push_back(run_measurement(config, scene,
+                                             make_tracers(scene, available({"packet", wide, "rtt"})),
+                                             w, h, k, config.threads));
     const Measurement& m = r.measurements.back();
 
     TextTable t;
     t.title = r.title + " (" + std::to_string(config.threads) + " thread(s), " + clock_name(clock) +
               " time, median of " + std::to_string(config.repetitions) + ")";
-    t.header = {"rays", "count", "packet ms", "rtt ms", "rtt traced", "speed-up"};
-    double packet_total = 0, rtt_total = 0;
+    t.header = {"rays",       "count",    "packet ms", wide + " ms", "rtt ms",
+                "rtt traced", "speed-up", "rtt/" + wide};
+    // Seconds of one tracer for one kind of ray (-1: not in this build).
+    const auto seconds = [&](const std::string& kind, bool shadow) {
+        const TracerResult* q = m.find(kind);
+        return q ? (shadow ? q->shadow : q->primary).seconds(clock) : -1.0;
+    };
+    const auto ms = [](double s) { return s >= 0 ? format_ms(s) : std::string("-"); };
+    double packet_total = 0, wide_total = 0, rtt_total = 0;
     for (bool shadow : {false, true}) {
-        const TracerResult* p = m.find("packet");
         const TracerResult* q = m.find("rtt");
-        const KindResult* pk = p ? &(shadow ? p->shadow : p->primary) : nullptr;
-        const KindResult* qk = q ? &(shadow ? q->shadow : q->primary) : nullptr;
-        if (pk) packet_total += pk->seconds(clock);
-        if (qk) rtt_total += qk->seconds(clock);
+        packet_total += std::max(0.0, seconds("packet", shadow));
+        wide_total += std::max(0.0, seconds(wide, shadow));
+        rtt_total += std::max(0.0, seconds("rtt", shadow));
         t.rows.push_back(
             {shadow ? "shadow" : "primary", format_count(shadow ? m.shadow_rays : m.primary_rays),
-             pk ? format_ms(pk->seconds(clock)) : "-", qk ? format_ms(qk->seconds(clock)) : "-",
-             qk ? format_count(qk->stats.traced) : "-",
-             format_ratio(speedup(m, "rtt", "packet", shadow, clock))});
+             ms(seconds("packet", shadow)), ms(seconds(wide, shadow)), ms(seconds("rtt", shadow)),
+             q ? format_count((shadow ? q->shadow : q->primary).stats.traced) : "-",
+             format_ratio(speedup(m, "rtt", "packet", shadow, clock)),
+             format_ratio(speedup(m, "rtt", wide, shadow, clock))});
     }
     const double combined = rtt_total > 0 ? packet_total / rtt_total : 0.0;
     t.rows.push_back({"both", format_count(m.primary_rays + m.shadow_rays), format_ms(packet_total),
-                      rtt_total > 0 ? format_ms(rtt_total) : "-", "", format_ratio(combined)});
+                      format_ms(wide_total), rtt_total > 0 ? format_ms(rtt_total) : "-", "",
+                      format_ratio(combined),
+                      format_ratio(rtt_total > 0 ? wide_total / rtt_total : 0.0)});
     t.notes.push_back("The paper (section 4): room at 2048x1560 with 6x6 antialiasing, RTT " +
                       format_ratio(paper::room_2048_aa6_speedup) + " faster than SIMD packets.");
     for (const std::string& n : agreement_notes(r.measurements)) t.notes.push_back(n);
@@ -205,7 +223,9 @@ ExperimentResult run_hq(const BenchConfig& config, SceneCache& scenes) {
     std::string line = name + " " + size_label(w, h) + " 6x6: rtt/packet " + format_ratio(sp) +
                        " primary, " + format_ratio(speedup(m, "rtt", "packet", true, clock)) +
                        " shadow, " + format_ratio(combined) + " both (paper " +
-                       format_ratio(paper::room_2048_aa6_speedup) + ")";
+                       format_ratio(paper::room_2048_aa6_speedup) + "); rtt/" + wide + " " +
+                       format_ratio(speedup(m, "rtt", wide, false, clock)) + " / " +
+                       format_ratio(speedup(m, "rtt", wide, true, clock));
     if (!config.quick() && name == "room")
         line += "; issue-5 target >= " + format_ratio(paper::target_speedup_hq) + ": primary " +
                 verdict(sp, paper::target_speedup_hq) + ", both " +
