@@ -27,21 +27,15 @@ bool make_shaft(const Ray (&c)[4], Shaft& s) {
     // The corners' WatertightRay constants, 4 lanes at once (WatertightPacket is
     // WatertightRay lane for lane, bit for bit): one permutation for all, or no shaft.
     using vf = vfloat4;
-    const auto lanes_of = [&](auto field) {
-        return vf::setr(field(c[0]), field(c[1]), field(c[2]), field(c[3]));
-    };
-    const Vec3v<4> dir{lanes_of([](const Ray& r) { return r.dir.x; }),
-                       lanes_of([](const Ray& r) { return r.dir.y; }),
-                       lanes_of([](const Ray& r) { return r.dir.z; })};
-    const vf tmin = lanes_of([](const Ray& r) { return r.tmin; });
-    const vf tmax = lanes_of([](const Ray& r) { return r.tmax; });
-    const WatertightPacket<4> w(Vec3v<4>(c[0].org), dir, tmin, tmax, vbool4(true));
+    const CornerLanes lanes(c);
+    const WatertightPacket<4> w(Vec3v<4>(c[0].org), lanes.dir, lanes.tmin, lanes.tmax,
+                                vbool4(true));
     if (!w.uniform || c[0].dir[w.ukz] == 0.f) return false;
     store(s.sx, w.sx);
     store(s.sy, w.sy);
     store(s.sz, w.sz);
-    store(s.tmin, tmin);
-    store(s.tmax, tmax);
+    store(s.tmin, lanes.tmin);
+    store(s.tmax, lanes.tmax);
     s.org = c[0].org;
     s.kx = w.ukx;
     s.ky = w.uky;

@@ -108,6 +108,20 @@ struct alignas(16) Shaft {
     float start_lo = 0.f, start_hi = 0.f, end_lo = pos_inf, end_hi = pos_inf;
 };
 
+/// The 4 corner rays' directions and intervals as SIMD lanes, built in registers (a vector
+/// loaded from scalars just stored would wait on store forwarding).
+struct CornerLanes {
+    Vec3v<4> dir;
+    vfloat4 tmin, tmax;
+
+    explicit CornerLanes(const Ray (&c)[4])
+        : dir{vfloat4::setr(c[0].dir.x, c[1].dir.x, c[2].dir.x, c[3].dir.x),
+              vfloat4::setr(c[0].dir.y, c[1].dir.y, c[2].dir.y, c[3].dir.y),
+              vfloat4::setr(c[0].dir.z, c[1].dir.z, c[2].dir.z, c[3].dir.z)},
+          tmin(vfloat4::setr(c[0].tmin, c[1].tmin, c[2].tmin, c[3].tmin)),
+          tmax(vfloat4::setr(c[0].tmax, c[1].tmax, c[2].tmax, c[3].tmax)) {}
+};
+
 /// Builds the shaft of 4 corner rays (corner_sample order). Returns false when RTT cannot use
 /// them: different origins, a corner whose watertight permutation differs from the others,
 /// tmin < 0 or NaN values, or corner slopes that do not form a strictly convex quad (or one

@@ -28,16 +28,9 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
     mailbox.begin(triangles.size());
     if (tree.nodes.empty()) return CornerStatus::traced;
     const Vec3f org = shaft.org;
-    // Built in registers (a vector loaded from scalars just stored would wait on store
-    // forwarding).
-    const auto lanes_of = [&](auto field) {
-        return vf::setr(field(corners[0]), field(corners[1]), field(corners[2]), field(corners[3]));
-    };
-    const vf dir[3] = {lanes_of([](const Ray& r) { return r.dir.x; }),
-                       lanes_of([](const Ray& r) { return r.dir.y; }),
-                       lanes_of([](const Ray& r) { return r.dir.z; })};
-    const vf ray_tmin = lanes_of([](const Ray& r) { return r.tmin; });
-    const vf ray_tmax = lanes_of([](const Ray& r) { return r.tmax; });
+    const CornerLanes corner_lanes(corners);
+    const vf dir[3] = {corner_lanes.dir.x, corner_lanes.dir.y, corner_lanes.dir.z};
+    const vf ray_tmin = corner_lanes.tmin, ray_tmax = corner_lanes.tmax;
     const vf inv[3] = {rcp(dir[0]), rcp(dir[1]), rcp(dir[2])};  // 1.f / d, as trace_ray
     bool above_first[3];
     vb zero_dir[3];
