@@ -50,6 +50,12 @@ std::string widest_packet() {
     return "packet";
 }
 
+std::string against_widest(const Measurement& m, ClockKind clock) {
+    const std::string wide = widest_packet();
+    return "rtt/" + wide + " " + format_ratio(speedup(m, "rtt", wide, false, clock)) + " / " +
+           format_ratio(speedup(m, "rtt", wide, true, clock));
+}
+
 Measurement run_measurement(const BenchConfig& config, const BenchScene& scene,
                             const std::vector<NamedTracer>& tracers, int width, int height, int aa,
                             int threads) {

@@ -21,6 +21,9 @@ std::vector<std::string> available(const std::vector<std::string>& wanted);
 /// width of RTT's own fallback, so rtt against it is the same-width comparison.
 std::string widest_packet();
 
+/// "rtt/packet16 0.73x / 0.74x": rtt against the widest packets, primary / shadow.
+std::string against_widest(const Measurement& m, ClockKind clock);
+
 /// Measures `tracers` on scene x (w, h, K) with the config's repetitions, logging one line.
 Measurement run_measurement(const BenchConfig& config, const BenchScene& scene,
                             const std::vector<NamedTracer>& tracers, int width, int height, int aa,

@@ -81,9 +81,10 @@ std::vector<Table1Row> table1_rows() {
                         [=](const paper::Table1Column& p) {
                             return format_ratio(shadow ? p.shadow_speedup() : p.primary_speedup());
                         }});
-        rows.push_back({"speed-up rtt/" + widest_packet() + " " + kind,
+        const std::string wide = widest_packet();
+        rows.push_back({"speed-up rtt/" + wide + " " + kind,
                         [=](const Measurement& m, ClockKind c) {
-                            return format_ratio(speedup(m, "rtt", widest_packet(), shadow, c));
+                            return format_ratio(speedup(m, "rtt", wide, shadow, c));
                         },
                         [](const paper::Table1Column&) { return std::string("-"); }});
         rows.push_back({"Mrays/s " + kind + " packet / rtt",
@@ -150,9 +151,7 @@ ExperimentResult run_table1(const BenchConfig& config, SceneCache& scenes) {
         if (const paper::Table1Column* p = paper::table1_column(m.scene))
             line += " (paper " + format_ratio(p->primary_speedup()) + ", " +
                     format_ratio(p->shadow_speedup()) + ")";
-        line += "; rtt/" + widest_packet() + " " +
-                format_ratio(speedup(m, "rtt", widest_packet(), false, clock)) + " / " +
-                format_ratio(speedup(m, "rtt", widest_packet(), true, clock));
+        line += "; " + against_widest(m, clock);
         if (!config.quick() && (m.scene == "room" || m.scene == "office"))
             line += "; issue-5 target >= " + format_ratio(paper::target_speedup_640) +
                     ": primary " + verdict(sp, paper::target_speedup_640) + ", shadow " +
@@ -223,9 +222,8 @@ ExperimentResult run_hq(const BenchConfig& config, SceneCache& scenes) {
     std::string line = name + " " + size_label(w, h) + " 6x6: rtt/packet " + format_ratio(sp) +
                        " primary, " + format_ratio(speedup(m, "rtt", "packet", true, clock)) +
                        " shadow, " + format_ratio(combined) + " both (paper " +
-                       format_ratio(paper::room_2048_aa6_speedup) + "); rtt/" + wide + " " +
-                       format_ratio(speedup(m, "rtt", wide, false, clock)) + " / " +
-                       format_ratio(speedup(m, "rtt", wide, true, clock));
+                       format_ratio(paper::room_2048_aa6_speedup) + "); " +
+                       against_widest(m, clock);
     if (!config.quick() && name == "room")
         line += "; issue-5 target >= " + format_ratio(paper::target_speedup_hq) + ": primary " +
                 verdict(sp, paper::target_speedup_hq) + ", both " +
