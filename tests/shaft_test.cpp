@@ -209,11 +209,13 @@ TEST(Shaft, RefusesWhatIsNotAShaft) {
     EXPECT_FALSE(shaft_accepts(s, Ray{o, {0.15f, 0.15f, 1}, 0.5f, pos_inf}));  // another start
 }
 
-// A box the region test drops contains no point of any accepted ray within its offsets.
+// A box the region test drops contains no point of any accepted ray within its offsets: the
+// one-box test and the K-wide test, with and without a start offset.
 TEST(Shaft, RegionCullingIsConservative) {
     std::mt19937 rng(23);
     std::uniform_real_distribution<float> u(0.f, 1.f);
-    uint64_t dropped = 0, violations = 0;
+    constexpr int K = simd_max_width;
+    uint64_t dropped = 0, dropped_wide = 0, violations = 0;
     for (int tile = 0; tile < 60; ++tile) {
         DenseTile t = camera_tile(rng, 2);
         take_corners(t);
@@ -221,31 +223,76 @@ TEST(Shaft, RegionCullingIsConservative) {
         if (!make_shaft(t.corners, s)) continue;
         const Vec3f o = s.org;
         const Bbox3f scene{o - Vec3f(20.f), o + Vec3f(20.f)};
-        const float o_hi = 2.f + 6.f * u(rng);
-        ShaftRegion region(s, scene, 0.f, o_hi);
-        // Points of accepted rays up to offset o_hi.
+        const float o_lo = tile % 2 ? 0.f : 1.5f * u(rng), o_hi = 2.f + 6.f * u(rng);
+        ShaftRegion region(s, scene, o_lo, o_hi);
+        // Points of accepted rays between offsets o_lo and o_hi.
         std::vector<Vec3f> points;
         for (const Ray& r : t.rays) {
             if (!shaft_accepts(s, r)) continue;
             const float dz = std::fabs(r.dir[s.kz]);
             for (int k = 0; k <= 16; ++k)
-                points.push_back(r.org + r.dir * (o_hi / dz * float(k) / 16.f));
+                points.push_back(r.org + r.dir * ((o_lo + (o_hi - o_lo) * float(k) / 16.f) / dz));
         }
-        for (int b = 0; b < 400; ++b) {
-            // Boxes around a random point of the shaft, of random size, sometimes shifted off it.
-            const Vec3f c = points[size_t(rng() % points.size())] +
-                            Vec3f(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f) * 0.2f;
-            const Vec3f half = Vec3f(u(rng), u(rng), u(rng)) * 0.05f;
-            const Bbox3f box{c - half, c + half};
-            if (region.meets(BoxV(box))) continue;
-            ++dropped;
+        const auto holds_a_point = [&](const Bbox3f& box) {
+            uint64_t n = 0;
             for (const Vec3f& p : points)
-                violations += p.x >= box.lo.x && p.x <= box.hi.x && p.y >= box.lo.y &&
-                              p.y <= box.hi.y && p.z >= box.lo.z && p.z <= box.hi.z;
+                n += p.x >= box.lo.x && p.x <= box.hi.x && p.y >= box.lo.y && p.y <= box.hi.y &&
+                     p.z >= box.lo.z && p.z <= box.hi.z;
+            return n;
+        };
+        for (int b = 0; b < 400; b += K) {
+            // Boxes around a random point of the shaft, of random size, sometimes shifted off
+            // it; K of them for the wide test.
+            alignas(64) float lo[3][K], hi[3][K];
+            Bbox3f boxes[K];
+            for (int i = 0; i < K; ++i) {
+                const Vec3f c = points[size_t(rng() % points.size())] +
+                                Vec3f(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f) * 0.2f;
+                const Vec3f half = Vec3f(u(rng), u(rng), u(rng)) * 0.05f;
+                boxes[i] = Bbox3f{c - half, c + half};
+                for (int a = 0; a < 3; ++a) {
+                    lo[a][i] = boxes[i].lo[a];
+                    hi[a][i] = boxes[i].hi[a];
+                }
+            }
+            vfloat<K> vlo[3], vhi[3];
+            for (int a = 0; a < 3; ++a) {
+                vlo[a] = vfloat<K>::load(lo[a]);
+                vhi[a] = vfloat<K>::load(hi[a]);
+            }
+            const uint32_t wide = movemask(region.meets<K>(vlo, vhi));
+            for (int i = 0; i < K; ++i) {
+                if (!(wide >> i & 1)) {
+                    ++dropped_wide;
+                    violations += holds_a_point(boxes[i]);
+                }
+                if (region.meets(BoxV(boxes[i]))) continue;
+                ++dropped;
+                violations += holds_a_point(boxes[i]);
+            }
         }
     }
     EXPECT_GT(dropped, 1000u);
+    EXPECT_GT(dropped_wide, 1000u);
     EXPECT_EQ(violations, 0u);
+}
+
+// The region's bounding box drops a box beside the cone that no plane of the cone has wholly
+// outside (the box reaches back behind the apex), and keeps one that holds a point of a ray.
+TEST(Shaft, RegionBoundsDropBoxesBesideTheCone) {
+    const Vec3f o{0.f, 0.f, 0.f};
+    Ray c[4];
+    for (int i = 0; i < 4; ++i)
+        c[i] = Ray{o, normalize(Vec3f{(i & 1) ? 0.1f : 0.f, (i & 2) ? 0.1f : 0.f, 1.f})};
+    Shaft s;
+    ASSERT_TRUE(make_shaft(c, s));
+    const Bbox3f scene{Vec3f(-20.f), Vec3f(20.f)};
+    const ShaftRegion region(s, scene, 0.f, 2.f);
+    // The cone spans x in [0, 0.2] at offset 2; this box lies at x >= 0.25, from z = -5 to 5.
+    const Bbox3f beside{{0.25f, 0.f, -5.f}, {1.f, 0.1f, 5.f}};
+    EXPECT_FALSE(region.meets(BoxV(beside)));
+    const Bbox3f touching{{0.15f, 0.f, -5.f}, {1.f, 0.1f, 5.f}};
+    EXPECT_TRUE(region.meets(BoxV(touching)));
 }
 
 // ---- exact plane identity ------------------------------------------------------------------

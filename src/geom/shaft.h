@@ -168,15 +168,33 @@ struct PlaneSet {
 /// offsets [o_lo, o_hi] between the rays' starts and ends, and optionally one more half-space
 /// bounding the ends (the plane the rays end on: T's plane for primary rays, the receiver's
 /// for shadows). Tests are conservative (PlaneSet).
+///
+/// Like Haines and Wallace's shafts, R also has a bounding box (`bounds`, relative to the apex
+/// as every test here is: absolute coordinates would round at the scene's magnitude, not at
+/// its extent from the apex): the planes alone
+/// miss every box that is separated from R only along a world axis (a kd node beside the one
+/// the corners cross, its face parallel to the cone's side: no plane of the cone has it wholly
+/// outside). Between offsets o_lo and o_hi the cone's slice is the box of its 8 corner points,
+/// org + o sign_z (s_x, s_y, 1) in (kx, ky, kz), with slopes s over the grown quad, which lies
+/// within eta of the corners' slopes; an accepted ray's exact slopes are within u of its float
+/// ones. Grown by PlaneSet's tolerance for an axis plane, 2^-18 times the scene's extent along
+/// that axis from the apex, which exceeds the rounding of these products and sums.
 struct ShaftRegion {
     PlaneSet cone, slab;
     vfloat4 org;
+    BoxV bounds;  ///< Holds R - org (class comment); lane 3 is 0.
     bool use_slab = true;
 
     ShaftRegion(const Shaft& s, const Bbox3f& scene, float o_lo, float o_hi)
-        : org(BoxV::lanes(s.org)) {
+        : org(BoxV::lanes(s.org)), kx_(s.kx), ky_(s.ky), kz_(s.kz), sign_z_(s.sign_z) {
         using vf = vfloat4;
         extent_ = max(abs(scene.lo - s.org), abs(scene.hi - s.org));
+        const float slack = 2.f * s.eta + 0x1p-20f;  // the quad's lines move by 2^-21 more
+        const vf sx = vf::load(s.sx), sy = vf::load(s.sy);
+        slope_lo_[0] = reduce_min(sx)[0] - slack;
+        slope_hi_[0] = reduce_max(sx)[0] + slack;
+        slope_lo_[1] = reduce_min(sy)[0] - slack;
+        slope_hi_[1] = reduce_max(sy)[0] + slack;
         cone.nx = vf::loadu(s.frustum_nx);
         cone.ny = vf::loadu(s.frustum_ny);
         cone.nz = vf::loadu(s.frustum_nz);
@@ -215,6 +233,7 @@ struct ShaftRegion {
     RTT_FORCEINLINE bool meets(const BoxV& box) const {
         using vf = vfloat4;
         const vf dlo = box.lo - org, dhi = box.hi - org;
+        if ((movemask((dlo <= bounds.hi) & (dhi >= bounds.lo)) & 7) != 7) return false;
         const vf lx(dlo[0]), ly(dlo[1]), lz(dlo[2]), hx(dhi[0]), hy(dhi[1]), hz(dhi[2]);
         return cone.meets(lx, ly, lz, hx, hy, hz) &&
                (!use_slab || slab.meets(lx, ly, lz, hx, hy, hz));
@@ -230,6 +249,8 @@ struct ShaftRegion {
             dhi[a] = hi[a] - vf(org[a]);
         }
         vbool<K> in(true);
+        for (int a = 0; a < 3; ++a)
+            in &= (dlo[a] <= vf(bounds.hi[a])) & (dhi[a] >= vf(bounds.lo[a]));
         const auto plane = [&](const PlaneSet& p, int l) {
             const float nx = p.nx[l], ny = p.ny[l], nz = p.nz[l];
             const vf best =
@@ -255,7 +276,36 @@ private:
         slab.ny = vf::setr(n_[0][1], n_[1][1], n_[2][1], n_[3][1]);
         slab.nz = vf::setr(n_[0][2], n_[1][2], n_[2][2], n_[3][2]);
         slab.limit = vf::setr(c_[0], c_[1], c_[2], c_[3]) - tolerance(slab);
+        load_bounds();
     }
+    /// `bounds` for offsets [c_[0], -c_[1]] (class comment); unbounded without an end.
+    void load_bounds() {
+        const float o_lo = c_[0], o_hi = -c_[1];
+        if (!(o_hi < pos_inf)) {
+            bounds.lo = vfloat4(neg_inf);
+            bounds.hi = vfloat4(pos_inf);
+            return;
+        }
+        float lo[3], hi[3];
+        const float z_lo = sign_z_ * (sign_z_ > 0.f ? o_lo : o_hi);
+        const float z_hi = sign_z_ * (sign_z_ > 0.f ? o_hi : o_lo);
+        lo[kz_] = z_lo;
+        hi[kz_] = z_hi;
+        const int lateral[2] = {kx_, ky_};
+        for (int i = 0; i < 2; ++i) {
+            // s sign_z o over the slope range and the offsets: extremes at the ends of both.
+            const float e[4] = {slope_lo_[i] * z_lo, slope_lo_[i] * z_hi, slope_hi_[i] * z_lo,
+                                slope_hi_[i] * z_hi};
+            lo[lateral[i]] = std::min({e[0], e[1], e[2], e[3]});
+            hi[lateral[i]] = std::max({e[0], e[1], e[2], e[3]});
+        }
+        const vfloat4 tol = vfloat4(0x1p-18f) * BoxV::lanes(extent_);
+        bounds.lo = vfloat4::setr(lo[0], lo[1], lo[2], 0.f) - tol;
+        bounds.hi = vfloat4::setr(hi[0], hi[1], hi[2], 0.f) + tol;
+    }
+    int kx_, ky_, kz_;
+    float sign_z_;
+    float slope_lo_[2], slope_hi_[2];  // slopes along kx, ky over the grown quad
     Vec3f extent_;
     float n_[4][3] = {};                               // unused lanes: n = 0,
     float c_[4] = {0.f, 0.f, -1.f, -1.f};              // c = -1: never separating

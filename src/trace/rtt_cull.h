@@ -23,7 +23,8 @@
 //
 // Node test. The test is ShaftRegion::meets, the same products and sums for 8 half-spaces at
 // once (cone in lanes 0-3, slab and end plane in 4-7), done incrementally: a child's box differs
-// from its parent's in one coordinate, so only the split axis's terms n_a (x_a - org_a) change.
+// from its parent's in one coordinate, so only the split axis's terms n_a (x_a - org_a) change,
+// and of R's bounding box only the split axis's interval is compared again.
 #pragma once
 
 #include <algorithm>
@@ -72,7 +73,15 @@ CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> trian
     // The region's 8 half-spaces: the cone in lanes 0-3, the slab and end plane in 4-7 (without
     // a slab every lane of it passes, ShaftRegion::use_slab). Built in registers.
     vf n[3][C], limit[C];
+    vf4 bounds_lo, bounds_hi;  // region.bounds, relative to the apex
+    float rlo[3], rhi[3];      // the same, for the split tests
     const auto load_planes = [&] {
+        bounds_lo = region.bounds.lo;
+        bounds_hi = region.bounds.hi;
+        for (int a = 0; a < 3; ++a) {
+            rlo[a] = region.bounds.lo[a];
+            rhi[a] = region.bounds.hi[a];
+        }
         const vf4 cone_n[3] = {region.cone.nx, region.cone.ny, region.cone.nz};
         const vf4 slab_n[3] = {region.slab.nx, region.slab.ny, region.slab.nz};
         const vf4 slab_limit = region.use_slab ? region.slab.limit : vf4(neg_inf);
@@ -115,10 +124,14 @@ CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> trian
         }
         return in;
     };
+    // Whether the box (relative to the apex) may meet region.bounds.
+    const auto in_bounds = [&](const vf4& dlo, const vf4& dhi) {
+        return (movemask((dlo <= bounds_hi) & (dhi >= bounds_lo)) & 7) == 7;
+    };
     const auto box_meets = [&](const vf4& blo, const vf4& bhi) {
         Terms t;
         terms_of(blo, bhi, t);
-        return meets(t);
+        return in_bounds(blo - org4, bhi - org4) && meets(t);
     };
     // The same for a triangle's bounding box, from scalars (no vector built in memory).
     const auto triangle_meets = [&](const TriangleVerts& tri) {
@@ -126,6 +139,7 @@ CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> trian
         for (int a = 0; a < 3; ++a) {
             const float lo = std::min({tri.v0[a], tri.v1[a], tri.v2[a]}) - org[a];
             const float hi = std::max({tri.v0[a], tri.v1[a], tri.v2[a]}) - org[a];
+            if (lo > rhi[a] || hi < rlo[a]) return false;
             for (int c = 0; c < C; ++c) {
                 t.lo[a][c] = n[a][c] * vf(lo);
                 t.hi[a][c] = n[a][c] * vf(hi);
@@ -166,7 +180,7 @@ CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> trian
         const bool retest = stack[top].generation != generation;
         Terms t;
         terms_of(blo, bhi, t);
-        if (retest && !meets(t)) continue;
+        if (retest && !(in_bounds(blo - org4, bhi - org4) && meets(t))) continue;
         // One inner node along axis A (a template, so that the terms stay in registers):
         // false when neither child may meet the region. (The sums' order differs from
         // ShaftRegion::meets for some axes: PlaneSet's tolerance covers any order.)
@@ -174,7 +188,8 @@ CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> trian
             constexpr int A1 = (A + 1) % 3, A2 = (A + 2) % 3;
             const float split = node.split;
             const float dv = split - org[A];
-            bool below_in = true, above_in = true;
+            // The parent meets region.bounds: a child may only leave them along A.
+            bool below_in = dv >= rlo[A], above_in = dv <= rhi[A];
             vf v[C];
             for (int c = 0; c < C; ++c) {
                 v[c] = n[A][c] * vf(dv);
