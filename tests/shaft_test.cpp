@@ -210,12 +210,12 @@ TEST(Shaft, RefusesWhatIsNotAShaft) {
 }
 
 // A box the region test drops contains no point of any accepted ray within its offsets: the
-// one-box test and the K-wide test, with and without a start offset.
+// one-box test, the K-wide test and the cone's slice alone, with and without a start offset.
 TEST(Shaft, RegionCullingIsConservative) {
     std::mt19937 rng(23);
     std::uniform_real_distribution<float> u(0.f, 1.f);
     constexpr int K = simd_max_width;
-    uint64_t dropped = 0, dropped_wide = 0, violations = 0;
+    uint64_t dropped = 0, dropped_wide = 0, dropped_slice = 0, violations = 0;
     for (int tile = 0; tile < 60; ++tile) {
         DenseTile t = camera_tile(rng, 2);
         take_corners(t);
@@ -266,6 +266,16 @@ TEST(Shaft, RegionCullingIsConservative) {
                     ++dropped_wide;
                     violations += holds_a_point(boxes[i]);
                 }
+                // The slice test alone (relative to the apex, as meets() calls it).
+                float rl[3], rh[3];
+                for (int a = 0; a < 3; ++a) {
+                    rl[a] = boxes[i].lo[a] - o[a];
+                    rh[a] = boxes[i].hi[a] - o[a];
+                }
+                if (!region.slice_meets(rl, rh)) {
+                    ++dropped_slice;
+                    violations += holds_a_point(boxes[i]);
+                }
                 if (region.meets(BoxV(boxes[i]))) continue;
                 ++dropped;
                 violations += holds_a_point(boxes[i]);
@@ -274,6 +284,7 @@ TEST(Shaft, RegionCullingIsConservative) {
     }
     EXPECT_GT(dropped, 1000u);
     EXPECT_GT(dropped_wide, 1000u);
+    EXPECT_GT(dropped_slice, 500u);
     EXPECT_EQ(violations, 0u);
 }
 

@@ -169,16 +169,19 @@ struct PlaneSet {
 /// bounding the ends (the plane the rays end on: T's plane for primary rays, the receiver's
 /// for shadows). Tests are conservative (PlaneSet).
 ///
-/// Like Haines and Wallace's shafts, R also has a bounding box (`bounds`, relative to the apex
-/// as every test here is: absolute coordinates would round at the scene's magnitude, not at
-/// its extent from the apex): the planes alone
-/// miss every box that is separated from R only along a world axis (a kd node beside the one
-/// the corners cross, its face parallel to the cone's side: no plane of the cone has it wholly
-/// outside). Between offsets o_lo and o_hi the cone's slice is the box of its 8 corner points,
-/// org + o sign_z (s_x, s_y, 1) in (kx, ky, kz), with slopes s over the grown quad, which lies
-/// within eta of the corners' slopes; an accepted ray's exact slopes are within u of its float
-/// ones. Grown by PlaneSet's tolerance for an axis plane, 2^-18 times the scene's extent along
-/// that axis from the apex, which exceeds the rounding of these products and sums.
+/// Like Haines and Wallace's shafts, R also has a bounding box (`bounds`), and more: the planes
+/// alone miss every box that is separated from R only along a world axis (a kd node beside the
+/// one the corners cross, its face parallel to the cone's side: no plane of the cone has it
+/// wholly outside), or that the cone only passes at other depths (a node under the ceiling
+/// that the rays rising to it reach only farther on). So a box is also compared with the
+/// cone's slice at the box's own depths: relative to the apex, a point of the cone at depth
+/// z = x[kz] - org[kz] has lateral coordinates s z, with slopes s over the grown quad, which
+/// lies within eta of the corners' slopes (an accepted ray's exact slopes are within u of its
+/// float ones); over the box's depths within the slab, s z ranges between the products of the
+/// extreme slopes and depths. Everything is relative to the apex, as every test here is
+/// (absolute coordinates would round at the scene's magnitude, not at its extent from the
+/// apex), and grown by PlaneSet's tolerance for an axis plane, 2^-18 times the scene's extent
+/// along that axis from the apex, which exceeds the rounding of these products.
 struct ShaftRegion {
     PlaneSet cone, slab;
     vfloat4 org;
@@ -235,6 +238,8 @@ struct ShaftRegion {
         const vf dlo = box.lo - org, dhi = box.hi - org;
         if ((movemask((dlo <= bounds.hi) & (dhi >= bounds.lo)) & 7) != 7) return false;
         const vf lx(dlo[0]), ly(dlo[1]), lz(dlo[2]), hx(dhi[0]), hy(dhi[1]), hz(dhi[2]);
+        const float l[3] = {lx[0], ly[0], lz[0]}, h[3] = {hx[0], hy[0], hz[0]};
+        if (!slice_meets(l, h)) return false;
         return cone.meets(lx, ly, lz, hx, hy, hz) &&
                (!use_slab || slab.meets(lx, ly, lz, hx, hy, hz));
     }
@@ -251,6 +256,7 @@ struct ShaftRegion {
         vbool<K> in(true);
         for (int a = 0; a < 3; ++a)
             in &= (dlo[a] <= vf(bounds.hi[a])) & (dhi[a] >= vf(bounds.lo[a]));
+        in &= slice_meets<K>(dlo, dhi);
         const auto plane = [&](const PlaneSet& p, int l) {
             const float nx = p.nx[l], ny = p.ny[l], nz = p.nz[l];
             const vf best =
@@ -262,6 +268,39 @@ struct ShaftRegion {
         if (use_slab)
             for (int l = 0; l < 3; ++l) plane(slab, l);
         return in;
+    }
+
+    /// Whether the box [lo, hi] (relative to the apex, within `bounds` along kz) may meet the
+    /// cone's slice at the box's depths (class comment). K boxes at once, one per lane.
+    template <int K>
+    RTT_FORCEINLINE vbool<K> slice_meets(const vfloat<K> (&lo)[3], const vfloat<K> (&hi)[3]) const {
+        using vf = vfloat<K>;
+        const vf z0 = max(lo[kz_], vf(bounds.lo[kz_])), z1 = min(hi[kz_], vf(bounds.hi[kz_]));
+        vbool<K> in(true);
+        const int lateral[2] = {kx_, ky_};
+        for (int i = 0; i < 2; ++i) {
+            const int a = lateral[i];
+            const vf s0(slope_lo_[i]), s1(slope_hi_[i]);
+            const vf p00 = s0 * z0, p01 = s0 * z1, p10 = s1 * z0, p11 = s1 * z1;
+            const vf tol(slice_tol_[a]);
+            in &= (lo[a] <= max(max(p00, p01), max(p10, p11)) + tol) &
+                  (hi[a] >= min(min(p00, p01), min(p10, p11)) - tol);
+        }
+        return in;
+    }
+    /// slice_meets() for one box, from scalars (3 coordinates each).
+    RTT_FORCEINLINE bool slice_meets(const float* lo, const float* hi) const {
+        const float z0 = std::max(lo[kz_], bounds.lo[kz_]), z1 = std::min(hi[kz_], bounds.hi[kz_]);
+        const int lateral[2] = {kx_, ky_};
+        for (int i = 0; i < 2; ++i) {
+            const int a = lateral[i];
+            const float p00 = slope_lo_[i] * z0, p01 = slope_lo_[i] * z1, p10 = slope_hi_[i] * z0,
+                        p11 = slope_hi_[i] * z1;
+            if (lo[a] > std::max({p00, p01, p10, p11}) + slice_tol_[a] ||
+                hi[a] < std::min({p00, p01, p10, p11}) - slice_tol_[a])
+                return false;
+        }
+        return true;
     }
 
 private:
@@ -280,6 +319,8 @@ private:
     }
     /// `bounds` for offsets [c_[0], -c_[1]] (class comment); unbounded without an end.
     void load_bounds() {
+        const vfloat4 tol = vfloat4(0x1p-18f) * BoxV::lanes(extent_);
+        for (int a = 0; a < 3; ++a) slice_tol_[a] = tol[a];
         const float o_lo = c_[0], o_hi = -c_[1];
         if (!(o_hi < pos_inf)) {
             bounds.lo = vfloat4(neg_inf);
@@ -299,13 +340,13 @@ private:
             lo[lateral[i]] = std::min({e[0], e[1], e[2], e[3]});
             hi[lateral[i]] = std::max({e[0], e[1], e[2], e[3]});
         }
-        const vfloat4 tol = vfloat4(0x1p-18f) * BoxV::lanes(extent_);
         bounds.lo = vfloat4::setr(lo[0], lo[1], lo[2], 0.f) - tol;
         bounds.hi = vfloat4::setr(hi[0], hi[1], hi[2], 0.f) + tol;
     }
     int kx_, ky_, kz_;
     float sign_z_;
     float slope_lo_[2], slope_hi_[2];  // slopes along kx, ky over the grown quad
+    float slice_tol_[3];
     Vec3f extent_;
     float n_[4][3] = {};                               // unused lanes: n = 0,
     float c_[4] = {0.f, 0.f, -1.f, -1.f};              // c = -1: never separating
