@@ -197,12 +197,20 @@ TEST(Shaft, RefusesWhatIsNotAShaft) {
     EXPECT_FALSE(make_shaft(moved, s));
     Ray crossed[4] = {c[0], c[1], c[3], c[2]};  // corners out of order: a bow tie
     EXPECT_FALSE(make_shaft(crossed, s));
+    // In two steps: the rays are fine, the quad is refused.
+    EXPECT_TRUE(make_shaft_corners(crossed, s));
+    EXPECT_FALSE(s.has_quad);
+    EXPECT_FALSE(make_shaft_quad(s));
+    EXPECT_FALSE(make_shaft_corners(moved, s));
     Ray flat[4] = {c[0], c[0], c[2], c[2]};  // degenerate quad
     EXPECT_FALSE(make_shaft(flat, s));
     Ray turned[4] = {
         c[0], c[1], c[2], {o, {1, 0.2f, 0.1f}}};  // a corner with another dominant axis
     EXPECT_FALSE(make_shaft(turned, s));
     // A ray outside the quad, or from elsewhere, is not accepted.
+    ASSERT_TRUE(make_shaft_corners(c, s));
+    ASSERT_TRUE(make_shaft_quad(s));
+    EXPECT_TRUE(s.has_quad);
     EXPECT_TRUE(shaft_accepts(s, Ray{o, {0.15f, 0.15f, 1}}));
     EXPECT_FALSE(shaft_accepts(s, Ray{o, {0.25f, 0.15f, 1}}));
     EXPECT_FALSE(shaft_accepts(s, Ray{{1, 2, 3.5f}, {0.15f, 0.15f, 1}}));

@@ -20,13 +20,16 @@ constexpr float max_eta = 0x1p-10f;
 }  // namespace
 
 bool make_shaft(const Ray (&c)[4], Shaft& s) {
+    return make_shaft_corners(c, s) && make_shaft_quad(s);
+}
+
+bool make_shaft_corners(const Ray (&c)[4], Shaft& s) {
     for (const Ray& r : c) {
         if (!is_finite(r.org) || !is_finite(r.dir) || !same_bits(r.org, c[0].org)) return false;
         if (!(r.tmin >= 0.f && r.tmin <= r.tmax)) return false;  // also rejects NaN
     }
     // The corners' WatertightRay constants, 4 lanes at once (WatertightPacket is
     // WatertightRay lane for lane, bit for bit): one permutation for all, or no shaft.
-    using vf = vfloat4;
     const CornerLanes lanes(c);
     const WatertightPacket<4> w(Vec3v<4>(c[0].org), lanes.dir, lanes.tmin, lanes.tmax,
                                 vbool4(true));
@@ -41,7 +44,28 @@ bool make_shaft(const Ray (&c)[4], Shaft& s) {
     s.ky = w.uky;
     s.kz = w.ukz;
     s.sign_z = c[0].dir[w.ukz] < 0.f ? -1.f : 1.f;
+    s.has_quad = false;
 
+    // Start / end offsets along the dominant axis, computed as shaft_accepts computes them.
+    float so_lo = pos_inf, so_hi = 0.f, eo_lo = pos_inf, eo_hi = 0.f;
+    for (const Ray& r : c) {
+        const float dz = std::fabs(r.dir[s.kz]);
+        const float so = r.tmin * dz, eo = r.tmax * dz;
+        so_lo = std::min(so_lo, so);
+        so_hi = std::max(so_hi, so);
+        eo_lo = std::min(eo_lo, eo);
+        eo_hi = std::max(eo_hi, eo);
+    }
+    constexpr float widen = 0x1p-16f;
+    s.start_lo = so_lo * (1.f - widen);
+    s.start_hi = so_hi * (1.f + widen);
+    s.end_lo = eo_lo * (1.f - widen);
+    s.end_hi = eo_hi * (1.f + widen);
+    return true;
+}
+
+bool make_shaft_quad(Shaft& s) {
+    using vf = vfloat4;
     // The slope quad in cyclic order q = 0, 1, 3, 2, one edge per SIMD lane: edge m runs from
     // corner q[m] to corner q[m+1]. rot(k) holds the corners shifted by k.
     const float cx[4] = {s.sx[0], s.sx[1], s.sx[3], s.sx[2]},
@@ -93,22 +117,7 @@ bool make_shaft(const Ray (&c)[4], Shaft& s) {
     store(s.frustum_nx, vf::load(plane[0]));
     store(s.frustum_ny, vf::load(plane[1]));
     store(s.frustum_nz, vf::load(plane[2]));
-
-    // Start / end offsets along the dominant axis, computed as shaft_accepts computes them.
-    float so_lo = pos_inf, so_hi = 0.f, eo_lo = pos_inf, eo_hi = 0.f;
-    for (const Ray& r : c) {
-        const float dz = std::fabs(r.dir[s.kz]);
-        const float so = r.tmin * dz, eo = r.tmax * dz;
-        so_lo = std::min(so_lo, so);
-        so_hi = std::max(so_hi, so);
-        eo_lo = std::min(eo_lo, eo);
-        eo_hi = std::max(eo_hi, eo);
-    }
-    constexpr float widen = 0x1p-16f;
-    s.start_lo = so_lo * (1.f - widen);
-    s.start_hi = so_hi * (1.f + widen);
-    s.end_lo = eo_lo * (1.f - widen);
-    s.end_hi = eo_hi * (1.f + widen);
+    s.has_quad = true;
     return true;
 }
 

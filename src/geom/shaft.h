@@ -106,6 +106,8 @@ struct alignas(16) Shaft {
     /// Ranges of the start offset tmin |d[kz]| and end offset tmax |d[kz]| that rays answered
     /// from the list must have (the corners' ranges, widened by 2^-16 relative).
     float start_lo = 0.f, start_hi = 0.f, end_lo = pos_inf, end_hi = pos_inf;
+    /// The slope quad's fields (edges, frustum, eta) are set: make_shaft_quad succeeded.
+    bool has_quad = false;
 };
 
 /// The 4 corner rays' directions and intervals as SIMD lanes, built in registers (a vector
@@ -127,6 +129,14 @@ struct CornerLanes {
 /// tmin < 0 or NaN values, or corner slopes that do not form a strictly convex quad (or one
 /// so acute that the grown quad moves a corner by more than 2^-10).
 bool make_shaft(const Ray (&corners)[4], Shaft& shaft);
+/// make_shaft in two steps, for passes that often give up before they need the quad:
+/// make_shaft_corners sets the corners' watertight constants, permutation and offsets (all that
+/// the corners' own tests use) and refuses what make_shaft refuses about the rays;
+/// make_shaft_quad then sets the slope quad, edges, frustum and eta (the five conservative
+/// tests, regions and the per-ray check need them) and refuses what make_shaft refuses about
+/// the quad.
+bool make_shaft_corners(const Ray (&corners)[4], Shaft& shaft);
+bool make_shaft_quad(Shaft& shaft);
 
 /// True when `ray` may be answered from the shaft's relevant list: same origin and watertight
 /// permutation, float slopes inside the grown quad, start and end offsets inside the ranges.

@@ -22,7 +22,7 @@ struct alignas(16) CornerStackEntry {
 
 template <bool AnyHit, bool Lean>
 CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> triangles,
-                           const Shaft& shaft, const ShaftRegion* region, const Ray (&corners)[4],
+                           Shaft& shaft, const ShaftRegion* region, const Ray (&corners)[4],
                            TriangleMailbox& mailbox, CornerResult& out) {
     out.reset();
     mailbox.begin(triangles.size());
@@ -199,6 +199,7 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
             // A triangle met again in another leaf: its corner tests cannot change (the lanes'
             // tmax only shrank) and its relevance was decided.
             if (mailbox.seen(id)) continue;
+            if (!shaft.has_quad && !make_shaft_quad(shaft)) return CornerStatus::untraced;
             // Every lane tests every triangle met: a superset of the leaves trace_ray visits
             // per lane, which returns the same answers (trace_ray.h).
             const CornerVerdict v = test_corners<AnyHit>(shaft, triangles[id], lane_tmax);
@@ -216,14 +217,13 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
 }
 
 template CornerStatus trace_corners<false, true>(const KdTree&, std::span<const TriangleVerts>,
-                                                 const Shaft&, const ShaftRegion*,
-                                                 const Ray (&)[4], TriangleMailbox&,
-                                                 CornerResult&);
-template CornerStatus trace_corners<false>(const KdTree&, std::span<const TriangleVerts>,
-                                           const Shaft&, const ShaftRegion*, const Ray (&)[4],
-                                           TriangleMailbox&, CornerResult&);
-template CornerStatus trace_corners<true>(const KdTree&, std::span<const TriangleVerts>,
-                                          const Shaft&, const ShaftRegion*, const Ray (&)[4],
-                                          TriangleMailbox&, CornerResult&);
+                                                 Shaft&, const ShaftRegion*, const Ray (&)[4],
+                                                 TriangleMailbox&, CornerResult&);
+template CornerStatus trace_corners<false>(const KdTree&, std::span<const TriangleVerts>, Shaft&,
+                                           const ShaftRegion*, const Ray (&)[4], TriangleMailbox&,
+                                           CornerResult&);
+template CornerStatus trace_corners<true>(const KdTree&, std::span<const TriangleVerts>, Shaft&,
+                                          const ShaftRegion*, const Ray (&)[4], TriangleMailbox&,
+                                          CornerResult&);
 
 }  // namespace rtt

@@ -179,9 +179,12 @@ inline VerdictTaken take_verdict(const CornerVerdict& v, uint32_t id, CornerResu
 /// hits).
 /// Lean (closest hits, "rtt" at K = 1): the paper's incoherence flag ends the pass at once
 /// (`untraced`).
+/// `shaft` may lack its quad (make_shaft_corners only): it is completed (make_shaft_quad) when
+/// the first triangle is tested, which most passes that give up never reach; a refused quad
+/// ends the pass (`untraced`).
 template <bool AnyHit, bool Lean = false>
 CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> triangles,
-                           const Shaft& shaft, const ShaftRegion* region, const Ray (&corners)[4],
+                           Shaft& shaft, const ShaftRegion* region, const Ray (&corners)[4],
                            TriangleMailbox& mailbox, CornerResult& out);
 
 /// Completes the list of a `traced` result by shaft culling of its deferred nodes against

@@ -88,7 +88,10 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
     Ray corners[4];
     int cs[4];
     Shaft shaft;
-    if (!make_shaft(corners_of(tile, corners, cs), shaft)) {
+    // K = 1 builds the slope quad only when its corner pass needs it (most that give up do not).
+    const bool lean = extended_ && n == 16;
+    corners_of(tile, corners, cs);
+    if (!(lean ? make_shaft_corners(corners, shaft) : make_shaft(corners, shaft))) {
         trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
         return;
     }
@@ -96,7 +99,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
     PrimaryEnd end;
     bool listed = false;
     std::optional<ShaftRegion> region;  // primary_region(shaft, end), once it is built
-    if (extended_ && n == 16) {
+    if (lean) {
         // K = 1: the paper's procedure, leaner than the walk. The corners go through the tree
         // as one SSE packet and the pass stops at the first sign of incoherence (the tile is
         // then traced by 16-wide packets at once); nodes no corner enters are deferred
@@ -113,8 +116,8 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         }
         for (int i = 0; i < 4; ++i) hits[cs[i]] = res.hit[i];
         // One plane P for the 4 hits, as the walk asks (primary_end): R ends on P.
-        listed = status == CornerStatus::traced &&
-                 primary_end(shaft, corners, res.hit, end) && end.plane_id != no_plane;
+        listed = status == CornerStatus::traced && primary_end(shaft, corners, res.hit, end) &&
+                 end.plane_id != no_plane && (shaft.has_quad || make_shaft_quad(shaft));
         if (listed) {
             region.emplace(primary_region(shaft, end));
             listed = collect_deferred<false>(tree_, triangles_, shaft, *region,
