@@ -189,15 +189,19 @@ void check_camera(const Fixture& f, const Camera& cam, int width, int height, in
         }
 }
 
-/// Odd-sized tiles (5 x 3) of incoherent rays: random origins in `box`, directions of mixed
-/// signs, some axis-parallel (split distances 0 * inf = NaN), origins on integer planes,
-/// finite intervals.
+/// Tiles of incoherent rays: random origins in `box`, directions of mixed signs, some
+/// axis-parallel (split distances 0 * inf = NaN), origins on integer planes, finite intervals.
+/// Odd-sized (5 x 3), and 4 wide (one packet wide from 8 lanes on: read as runs of consecutive
+/// rays when the height is a multiple of the packet's, staged lane by lane otherwise).
 void check_random(const Fixture& f, const Bbox3f& box, int tiles, unsigned seed, const Vec3f& light,
                   Tally& tally) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> u(0.f, 1.f);
-    std::vector<Ray> rays(15);
+    constexpr int shapes[4][2] = {{5, 3}, {4, 4}, {4, 8}, {4, 6}};
+    std::vector<Ray> rays;
     for (int k = 0; k < tiles; ++k) {
+        const int w = shapes[k % 4][0], h = shapes[k % 4][1];
+        rays.resize(size_t(w * h));
         for (Ray& r : rays) {
             const Vec3f d = box.diagonal();
             r.org = box.lo + Vec3f{u(rng) * d.x, u(rng) * d.y, u(rng) * d.z};
@@ -205,13 +209,13 @@ void check_random(const Fixture& f, const Bbox3f& box, int tiles, unsigned seed,
                 r.org = Vec3f{std::round(r.org.x), std::round(r.org.y), std::round(r.org.z)};
             r.dir = Vec3f{u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f};
             if (rng() % 4 == 0) r.dir[int(rng() % 3)] = rng() % 2 ? 0.f : -0.f;
-            if (k % 2)
+            if (k % 8 >= 4)
                 r.dir = Vec3f{std::fabs(r.dir.x), -std::fabs(r.dir.y),
                               r.dir.z * 0.01f + 0.3f};  // one octant
             r.tmin = rng() % 3 ? 0.f : u(rng);
             r.tmax = rng() % 3 ? pos_inf : u(rng) * 3.f;
         }
-        check_tile(f, RayTile{5, 3, rays, false}, light, tally);
+        check_tile(f, RayTile{w, h, rays, false}, light, tally);
     }
 }
 

@@ -4,11 +4,37 @@
 
 #include <bit>
 #include <cstdint>
+#include <type_traits>
 
+#include "simd/simd.h"
 #include "simd/varying.h"
 #include "trace/trace_packet.h"
 
 namespace rtt {
+
+/// True when every packet-shaped block of a width x height grid is K consecutive samples (the
+/// grid is one block wide, e.g. a 4x4 tile in 16-wide packets) and none is cut by the grid's
+/// end: load_packet can read them in registers.
+template <int K>
+inline bool blocks_are_runs(int width, int height) {
+    return width == packet_width<K> && height % packet_height<K> == 0;
+}
+
+/// The packet of K consecutive rays, read in registers (load_records8: 8 floats per ray) and
+/// stored as vectors, which the traversal's vector loads forward without a stall (staging lane
+/// by lane with scalar stores made them wait, and a tile of one block cannot stage ahead).
+template <int K>
+RTT_FORCEINLINE void load_packet(const Ray* run, RayPacket<K>& packet) {
+    static_assert(sizeof(Ray) == 8 * sizeof(float) && std::is_standard_layout_v<Ray>);
+    vfloat<K> f[8];
+    load_records8(reinterpret_cast<const float*>(run), f);
+    for (int a = 0; a < 3; ++a) {
+        store(packet.org[a], f[a]);
+        store(packet.dir[a], f[3 + a]);
+    }
+    store(packet.tmin, f[6]);
+    store(packet.tmax, f[7]);
+}
 
 /// Calls fn(packet, active lane bits, sample index per lane) for each packet-shaped block of a
 /// width x height grid; `fill(packet, lane, sample)` stages a sample, `wanted(sample)` says
@@ -60,6 +86,31 @@ void for_each_block(int width, int height, Wanted&& wanted, Fill&& fill, Fn&& fn
         const Staged& p = staged[next ^ 1];
         fn(p.packet, p.active, p.sample);
     }
+}
+
+/// for_each_block over a tile's own rays: blocks that are runs of consecutive rays
+/// (blocks_are_runs) are read in registers (load_packet), the others staged lane by lane.
+template <int K, typename Wanted, typename Fn>
+void for_each_ray_block(const RayTile& tile, Wanted&& wanted, Fn&& fn) {
+    if (blocks_are_runs<K>(tile.width, tile.height)) {
+        RayPacket<K> packet;
+        int sample[K];
+        for (int base = 0; base < int(tile.rays.size()); base += K) {
+            uint32_t active = 0;
+            for (int lane = 0; lane < K; ++lane) {
+                sample[lane] = base + lane;
+                if (wanted(base + lane)) active |= 1u << lane;
+            }
+            if (!active) continue;
+            // Inactive lanes hold the tile's other rays: finite, as trace_packet asks.
+            load_packet<K>(tile.rays.data() + base, packet);
+            fn(static_cast<const RayPacket<K>&>(packet), active, static_cast<const int*>(sample));
+        }
+        return;
+    }
+    for_each_block<K>(
+        tile.width, tile.height, wanted,
+        [&](RayPacket<K>& packet, int lane, int s) { packet.set(lane, tile.rays[s]); }, fn);
 }
 
 }  // namespace rtt

@@ -314,9 +314,8 @@ uint32_t occluded_packet(const KdTree& tree, std::span<const TriangleVerts> tria
 template <int K>
 void trace_tile_packets(const KdTree& tree, std::span<const TriangleVerts> triangles,
                         const RayTile& tile, std::span<Hit> hits, PacketStats* stats) {
-    for_each_block<K>(
-        tile.width, tile.height, [](int) { return true; },
-        [&](RayPacket<K>& packet, int lane, int s) { packet.set(lane, tile.rays[s]); },
+    for_each_ray_block<K>(
+        tile, [](int) { return true; },
         [&](const RayPacket<K>& packet, uint32_t active, const int* sample) {
             Hit out[K];
             trace_packet<K>(tree, triangles, packet, active, out, stats);

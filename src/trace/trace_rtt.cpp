@@ -215,9 +215,8 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
             if (s != cs[0] && s != cs[1] && s != cs[2] && s != cs[3]) need.set(s);
     }
     if (need.none(n)) return;
-    for_each_block<fallback_width>(
-        tile.width, tile.height, [&](int s) { return need.test(s); },
-        [&](RayPacket<fallback_width>& packet, int lane, int s) { packet.set(lane, tile.rays[s]); },
+    for_each_ray_block<fallback_width>(
+        tile, [&](int s) { return need.test(s); },
         [&](const RayPacket<fallback_width>& packet, uint32_t active, const int* sample) {
             Hit out[fallback_width];
             trace_packet<fallback_width>(tree_, triangles_, packet, active, out);
