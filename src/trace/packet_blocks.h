@@ -20,22 +20,6 @@ inline bool blocks_are_runs(int width, int height) {
     return width == packet_width<K> && height % packet_height<K> == 0;
 }
 
-/// The packet of K consecutive rays, read in registers (load_records8: 8 floats per ray) and
-/// stored as vectors, which the traversal's vector loads forward without a stall (staging lane
-/// by lane with scalar stores made them wait, and a tile of one block cannot stage ahead).
-template <int K>
-RTT_FORCEINLINE void load_packet(const Ray* run, RayPacket<K>& packet) {
-    static_assert(sizeof(Ray) == 8 * sizeof(float) && std::is_standard_layout_v<Ray>);
-    vfloat<K> f[8];
-    load_records8(reinterpret_cast<const float*>(run), f);
-    for (int a = 0; a < 3; ++a) {
-        store(packet.org[a], f[a]);
-        store(packet.dir[a], f[3 + a]);
-    }
-    store(packet.tmin, f[6]);
-    store(packet.tmax, f[7]);
-}
-
 /// Calls fn(packet, active lane bits, sample index per lane) for each packet-shaped block of a
 /// width x height grid; `fill(packet, lane, sample)` stages a sample, `wanted(sample)` says
 /// whether it takes part. Inactive lanes are filled with a copy of an active sample.
@@ -88,29 +72,104 @@ void for_each_block(int width, int height, Wanted&& wanted, Fill&& fill, Fn&& fn
     }
 }
 
+/// Stores the fields of a packet held in registers (org xyz, dir xyz, tmin, tmax) as vectors,
+/// which the traversal's vector loads forward without a stall (staging lane by lane with scalar
+/// stores made them wait, and a tile of one block cannot stage ahead). Lanes outside `active`
+/// get the first active lane's ray: finite, as the packet tracers ask.
+template <int K>
+RTT_FORCEINLINE void store_packet(vfloat<K> (&f)[8], uint32_t active, RayPacket<K>& packet) {
+    if (active != all_lanes<K>) {
+        const vbool<K> keep = vbool<K>::from_bits(active);
+        const int donor = std::countr_zero(active);
+        for (vfloat<K>& v : f) v = select(keep, v, vfloat<K>(v[donor]));
+    }
+    for (int a = 0; a < 3; ++a) {
+        store(packet.org[a], f[a]);
+        store(packet.dir[a], f[3 + a]);
+    }
+    store(packet.tmin, f[6]);
+    store(packet.tmax, f[7]);
+}
+
+/// The packet of K consecutive rays, read in registers (load_records8: 8 floats per ray).
+template <int K>
+RTT_FORCEINLINE void load_packet(const Ray* run, uint32_t active, RayPacket<K>& packet) {
+    static_assert(sizeof(Ray) == 8 * sizeof(float) && std::is_standard_layout_v<Ray>);
+    vfloat<K> f[8];
+    load_records8(reinterpret_cast<const float*>(run), f);
+    store_packet<K>(f, active, packet);
+}
+
+/// The packet of the shadow segments shadow_ray(light, p) of K consecutive points, as
+/// load_packet (the same float operations as shadow_ray: dir = p - L per component).
+template <int K>
+RTT_FORCEINLINE void load_segment_packet(const Vec3f& light, const Vec3f* points, uint32_t active,
+                                         RayPacket<K>& packet) {
+    static_assert(sizeof(Vec3f) == 3 * sizeof(float) && std::is_standard_layout_v<Vec3f>);
+    using vf = vfloat<K>;
+    vf p[3];
+    load_records3(reinterpret_cast<const float*>(points), p);
+    vf f[8] = {
+        vf(light.x),        vf(light.y),        vf(light.z),        p[0] - vf(light.x),
+        p[1] - vf(light.y), p[2] - vf(light.z), vf(shadow_epsilon), vf(1.f - shadow_epsilon)};
+    store_packet<K>(f, active, packet);
+}
+
+/// Calls fn(packet, active, sample) for the runs of K consecutive samples of a grid whose
+/// blocks are runs (blocks_are_runs), `load(packet, base, active)` reading run `base` in
+/// registers.
+template <int K, typename Wanted, typename Load, typename Fn>
+void for_each_run(int count, Wanted&& wanted, Load&& load, Fn&& fn) {
+    RayPacket<K> packet;
+    int sample[K];
+    for (int base = 0; base < count; base += K) {
+        uint32_t active = 0;
+        for (int lane = 0; lane < K; ++lane) {
+            sample[lane] = base + lane;
+            if (wanted(base + lane)) active |= 1u << lane;
+        }
+        if (!active) continue;
+        load(packet, base, active);
+        fn(static_cast<const RayPacket<K>&>(packet), active, static_cast<const int*>(sample));
+    }
+}
+
 /// for_each_block over a tile's own rays: blocks that are runs of consecutive rays
 /// (blocks_are_runs) are read in registers (load_packet), the others staged lane by lane.
 template <int K, typename Wanted, typename Fn>
 void for_each_ray_block(const RayTile& tile, Wanted&& wanted, Fn&& fn) {
     if (blocks_are_runs<K>(tile.width, tile.height)) {
-        RayPacket<K> packet;
-        int sample[K];
-        for (int base = 0; base < int(tile.rays.size()); base += K) {
-            uint32_t active = 0;
-            for (int lane = 0; lane < K; ++lane) {
-                sample[lane] = base + lane;
-                if (wanted(base + lane)) active |= 1u << lane;
-            }
-            if (!active) continue;
-            // Inactive lanes hold the tile's other rays: finite, as trace_packet asks.
-            load_packet<K>(tile.rays.data() + base, packet);
-            fn(static_cast<const RayPacket<K>&>(packet), active, static_cast<const int*>(sample));
-        }
+        for_each_run<K>(
+            int(tile.rays.size()), wanted,
+            [&](RayPacket<K>& packet, int base, uint32_t active) {
+                load_packet<K>(tile.rays.data() + base, active, packet);
+            },
+            fn);
         return;
     }
     for_each_block<K>(
         tile.width, tile.height, wanted,
         [&](RayPacket<K>& packet, int lane, int s) { packet.set(lane, tile.rays[s]); }, fn);
+}
+
+/// The same over a shadow tile's segments (shadow_ray(tile.light, point)).
+template <int K, typename Wanted, typename Fn>
+void for_each_segment_block(const SegmentTile& tile, Wanted&& wanted, Fn&& fn) {
+    if (blocks_are_runs<K>(tile.width, tile.height)) {
+        for_each_run<K>(
+            int(tile.points.size()), wanted,
+            [&](RayPacket<K>& packet, int base, uint32_t active) {
+                load_segment_packet<K>(tile.light, tile.points.data() + base, active, packet);
+            },
+            fn);
+        return;
+    }
+    for_each_block<K>(
+        tile.width, tile.height, wanted,
+        [&](RayPacket<K>& packet, int lane, int s) {
+            packet.set(lane, shadow_ray(tile.light, tile.points[s]));
+        },
+        fn);
 }
 
 }  // namespace rtt

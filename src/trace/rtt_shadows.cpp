@@ -132,11 +132,8 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
             if (tile.active[i] && i != cs[0] && i != cs[1] && i != cs[2] && i != cs[3]) need.set(i);
     }
     if (need.none(n)) return;
-    for_each_block<fallback_width>(
-        tile.width, tile.height, [&](int s) { return need.test(s); },
-        [&](RayPacket<fallback_width>& packet, int lane, int s) {
-            packet.set(lane, shadow_ray(tile.light, tile.points[s]));
-        },
+    for_each_segment_block<fallback_width>(
+        tile, [&](int s) { return need.test(s); },
         [&](const RayPacket<fallback_width>& packet, uint32_t active, const int* sample) {
             const uint32_t occ = occluded_packet<fallback_width>(tree_, triangles_, packet, active);
             for (uint32_t b = active; b; b &= b - 1) {

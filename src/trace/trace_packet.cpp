@@ -330,11 +330,8 @@ uint64_t occluded_tile_packets(const KdTree& tree, std::span<const TriangleVerts
                                PacketStats* stats) {
     for (uint8_t& v : visible) v = 0;
     uint64_t count = 0;
-    for_each_block<K>(
-        tile.width, tile.height, [&](int s) { return tile.active[s] != 0; },
-        [&](RayPacket<K>& packet, int lane, int s) {
-            packet.set(lane, shadow_ray(tile.light, tile.points[s]));
-        },
+    for_each_segment_block<K>(
+        tile, [&](int s) { return tile.active[s] != 0; },
         [&](const RayPacket<K>& packet, uint32_t active, const int* sample) {
             const uint32_t occluded = occluded_packet<K>(tree, triangles, packet, active, stats);
             for (uint32_t b = active; b; b &= b - 1) {
