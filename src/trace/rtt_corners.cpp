@@ -88,11 +88,7 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
             listing = false;
             return;
         }
-        for (int a = 0; a < 3; ++a) {
-            d.lo[a][d.count] = box.lo[a];
-            d.hi[a][d.count] = box.hi[a];
-        }
-        d.node[d.count++] = node;
+        d.add(node, box);
     };
     PacketHit<4> best;
     vf lane_tmax = ray_tmax;

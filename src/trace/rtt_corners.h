@@ -96,12 +96,25 @@ struct DeferredNode {
     uint32_t node;
 };
 
-/// Nodes kept aside for shaft culling, structure of arrays (tested K at a time).
+/// Nodes kept aside for shaft culling. Each box is one record of 8 floats, lo (x, y, z, 0) and
+/// hi (x, y, z, 0): the traversal writes it with two vector stores, and the batch test reads K
+/// records as structure of arrays in registers (load_records8), the survivors as vectors.
 struct DeferredNodes {
     int count = 0;
-    alignas(64) float lo[3][rtt_max_deferred];
-    alignas(64) float hi[3][rtt_max_deferred];
+    alignas(64) float box[rtt_max_deferred][8];
     uint32_t node[rtt_max_deferred];
+
+    void add(uint32_t index, const BoxV& b) {
+        store(box[count], b.lo);
+        store(box[count] + 4, b.hi);
+        node[count++] = index;
+    }
+    BoxV get(int i) const {
+        BoxV b;
+        b.lo = vfloat4::load(box[i]);
+        b.hi = vfloat4::load(box[i] + 4);
+        return b;
+    }
 };
 
 enum class CornerStatus {

@@ -22,21 +22,18 @@ CornerStatus collect_deferred(const KdTree& tree, std::span<const TriangleVerts>
     constexpr int K = simd_max_width;
     for (int base = 0; base < d.count; base += K) {
         using vf = vfloat<K>;
-        vf lo[3], hi[3];
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = vf::load(d.lo[a] + base);
-            hi[a] = vf::load(d.hi[a] + base);
-        }
+        vf rec[8];
+        load_records8(d.box[base], rec);
+        const vf lo[3] = {rec[0], rec[1], rec[2]}, hi[3] = {rec[4], rec[5], rec[6]};
         const int in_batch = std::min(K, d.count - base);
         uint32_t survivors =
             movemask(region.meets<K>(lo, hi)) & (in_batch == 32 ? ~0u : (1u << in_batch) - 1u);
         for (; survivors; survivors &= survivors - 1) {
             const int i = base + std::countr_zero(survivors);
             int top = 0;
-            alignas(16) const float blo[4] = {d.lo[0][i], d.lo[1][i], d.lo[2][i], 0.f};
-            alignas(16) const float bhi[4] = {d.hi[0][i], d.hi[1][i], d.hi[2][i], 0.f};
-            stack[top].box.lo = vfloat4::load(blo);
-            stack[top].box.hi = vfloat4::load(bhi);
+            const BoxV box = d.get(i);
+            stack[top].box.lo = box.lo;
+            stack[top].box.hi = box.hi;
             stack[top++].node = d.node[i];
             bool first = true;  // the deferred node itself passed the batch test
             while (top > 0) {
