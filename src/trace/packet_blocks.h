@@ -115,57 +115,49 @@ RTT_FORCEINLINE void load_segment_packet(const Vec3f& light, const Vec3f* points
     store_packet<K>(f, active, packet);
 }
 
-/// Calls fn(packet, active, sample) for the runs of K consecutive samples of a grid whose
-/// blocks are runs (blocks_are_runs), `load(packet, base, active)` reading run `base` in
-/// registers.
-template <int K, typename Wanted, typename Load, typename Fn>
-void for_each_run(int count, Wanted&& wanted, Load&& load, Fn&& fn) {
+/// for_each_block, except that when the grid's blocks are runs of K consecutive samples
+/// (blocks_are_runs) each is read in registers by `load_run(packet, base, active)` instead of
+/// lane by lane by `fill`.
+template <int K, typename Wanted, typename LoadRun, typename Fill, typename Fn>
+void for_each_block_or_run(int width, int height, Wanted&& wanted, LoadRun&& load_run, Fill&& fill,
+                           Fn&& fn) {
+    if (!blocks_are_runs<K>(width, height)) {
+        for_each_block<K>(width, height, wanted, fill, fn);
+        return;
+    }
     RayPacket<K> packet;
     int sample[K];
-    for (int base = 0; base < count; base += K) {
+    for (int base = 0; base < width * height; base += K) {
         uint32_t active = 0;
         for (int lane = 0; lane < K; ++lane) {
             sample[lane] = base + lane;
             if (wanted(base + lane)) active |= 1u << lane;
         }
         if (!active) continue;
-        load(packet, base, active);
+        load_run(packet, base, active);
         fn(static_cast<const RayPacket<K>&>(packet), active, static_cast<const int*>(sample));
     }
 }
 
-/// for_each_block over a tile's own rays: blocks that are runs of consecutive rays
-/// (blocks_are_runs) are read in registers (load_packet), the others staged lane by lane.
+/// for_each_block over a tile's own rays (runs read by load_packet).
 template <int K, typename Wanted, typename Fn>
 void for_each_ray_block(const RayTile& tile, Wanted&& wanted, Fn&& fn) {
-    if (blocks_are_runs<K>(tile.width, tile.height)) {
-        for_each_run<K>(
-            int(tile.rays.size()), wanted,
-            [&](RayPacket<K>& packet, int base, uint32_t active) {
-                load_packet<K>(tile.rays.data() + base, active, packet);
-            },
-            fn);
-        return;
-    }
-    for_each_block<K>(
+    for_each_block_or_run<K>(
         tile.width, tile.height, wanted,
+        [&](RayPacket<K>& packet, int base, uint32_t active) {
+            load_packet<K>(tile.rays.data() + base, active, packet);
+        },
         [&](RayPacket<K>& packet, int lane, int s) { packet.set(lane, tile.rays[s]); }, fn);
 }
 
-/// The same over a shadow tile's segments (shadow_ray(tile.light, point)).
+/// The same over a shadow tile's segments shadow_ray(tile.light, point).
 template <int K, typename Wanted, typename Fn>
 void for_each_segment_block(const SegmentTile& tile, Wanted&& wanted, Fn&& fn) {
-    if (blocks_are_runs<K>(tile.width, tile.height)) {
-        for_each_run<K>(
-            int(tile.points.size()), wanted,
-            [&](RayPacket<K>& packet, int base, uint32_t active) {
-                load_segment_packet<K>(tile.light, tile.points.data() + base, active, packet);
-            },
-            fn);
-        return;
-    }
-    for_each_block<K>(
+    for_each_block_or_run<K>(
         tile.width, tile.height, wanted,
+        [&](RayPacket<K>& packet, int base, uint32_t active) {
+            load_segment_packet<K>(tile.light, tile.points.data() + base, active, packet);
+        },
         [&](RayPacket<K>& packet, int lane, int s) {
             packet.set(lane, shadow_ray(tile.light, tile.points[s]));
         },
