@@ -275,12 +275,11 @@ TEST(Shaft, RegionCullingIsConservative) {
                     violations += holds_a_point(boxes[i]);
                 }
                 // The slice test alone (relative to the apex, as meets() calls it).
-                float rl[3], rh[3];
-                for (int a = 0; a < 3; ++a) {
-                    rl[a] = boxes[i].lo[a] - o[a];
-                    rh[a] = boxes[i].hi[a] - o[a];
-                }
-                if (!region.slice_meets(rl, rh)) {
+                const vfloat4 rl[3] = {vfloat4(boxes[i].lo.x - o.x), vfloat4(boxes[i].lo.y - o.y),
+                                       vfloat4(boxes[i].lo.z - o.z)};
+                const vfloat4 rh[3] = {vfloat4(boxes[i].hi.x - o.x), vfloat4(boxes[i].hi.y - o.y),
+                                       vfloat4(boxes[i].hi.z - o.z)};
+                if (!(movemask(region.slice_meets<4>(rl, rh)) & 1)) {
                     ++dropped_slice;
                     violations += holds_a_point(boxes[i]);
                 }

@@ -248,8 +248,7 @@ struct ShaftRegion {
         const vf dlo = box.lo - org, dhi = box.hi - org;
         if ((movemask((dlo <= bounds.hi) & (dhi >= bounds.lo)) & 7) != 7) return false;
         const vf lx(dlo[0]), ly(dlo[1]), lz(dlo[2]), hx(dhi[0]), hy(dhi[1]), hz(dhi[2]);
-        const float l[3] = {lx[0], ly[0], lz[0]}, h[3] = {hx[0], hy[0], hz[0]};
-        if (!slice_meets(l, h)) return false;
+        if (!(movemask(slice_meets<4>({lx, ly, lz}, {hx, hy, hz})) & 1)) return false;
         return cone.meets(lx, ly, lz, hx, hy, hz) &&
                (!use_slab || slab.meets(lx, ly, lz, hx, hy, hz));
     }
@@ -287,33 +286,28 @@ struct ShaftRegion {
         using vf = vfloat<K>;
         const vf z0 = max(lo[kz_], vf(bounds.lo[kz_])), z1 = min(hi[kz_], vf(bounds.hi[kz_]));
         vbool<K> in(true);
-        const int lateral[2] = {kx_, ky_};
         for (int i = 0; i < 2; ++i) {
-            const int a = lateral[i];
-            const vf s0(slope_lo_[i]), s1(slope_hi_[i]);
-            const vf p00 = s0 * z0, p01 = s0 * z1, p10 = s1 * z0, p11 = s1 * z1;
+            const int a = i == 0 ? kx_ : ky_;
+            vf s_lo, s_hi;
+            lateral_range<K>(i, z0, z1, s_lo, s_hi);
             const vf tol(slice_tol_[a]);
-            in &= (lo[a] <= max(max(p00, p01), max(p10, p11)) + tol) &
-                  (hi[a] >= min(min(p00, p01), min(p10, p11)) - tol);
+            in &= (lo[a] <= s_hi + tol) & (hi[a] >= s_lo - tol);
         }
         return in;
     }
-    /// slice_meets() for one box, from scalars (3 coordinates each).
-    RTT_FORCEINLINE bool slice_meets(const float* lo, const float* hi) const {
-        const float z0 = std::max(lo[kz_], bounds.lo[kz_]), z1 = std::min(hi[kz_], bounds.hi[kz_]);
-        const int lateral[2] = {kx_, ky_};
-        for (int i = 0; i < 2; ++i) {
-            const int a = lateral[i];
-            const float p00 = slope_lo_[i] * z0, p01 = slope_lo_[i] * z1, p10 = slope_hi_[i] * z0,
-                        p11 = slope_hi_[i] * z1;
-            if (lo[a] > std::max({p00, p01, p10, p11}) + slice_tol_[a] ||
-                hi[a] < std::min({p00, p01, p10, p11}) - slice_tol_[a])
-                return false;
-        }
-        return true;
-    }
 
 private:
+    /// The cone's extent along lateral axis i (kx, ky) over depths [z0, z1] relative to the apex,
+    /// without tolerance: s z is bilinear, so its extremes are at the ends of both ranges.
+    template <int K>
+    RTT_FORCEINLINE void lateral_range(int i, vfloat<K> z0, vfloat<K> z1, vfloat<K>& lo,
+                                       vfloat<K>& hi) const {
+        using vf = vfloat<K>;
+        const vf s0(slope_lo_[i]), s1(slope_hi_[i]);
+        const vf p00 = s0 * z0, p01 = s0 * z1, p10 = s1 * z0, p11 = s1 * z1;
+        lo = min(min(p00, p01), min(p10, p11));
+        hi = max(max(p00, p01), max(p10, p11));
+    }
     vfloat4 tolerance(const PlaneSet& p) const {
         using vf = vfloat4;
         return vf(0x1p-18f) * ((abs(p.nx) * vf(extent_.x) + abs(p.ny) * vf(extent_.y)) +
@@ -342,13 +336,11 @@ private:
         const float z_hi = sign_z_ * (sign_z_ > 0.f ? o_hi : o_lo);
         lo[kz_] = z_lo;
         hi[kz_] = z_hi;
-        const int lateral[2] = {kx_, ky_};
         for (int i = 0; i < 2; ++i) {
-            // s sign_z o over the slope range and the offsets: extremes at the ends of both.
-            const float e[4] = {slope_lo_[i] * z_lo, slope_lo_[i] * z_hi, slope_hi_[i] * z_lo,
-                                slope_hi_[i] * z_hi};
-            lo[lateral[i]] = std::min({e[0], e[1], e[2], e[3]});
-            hi[lateral[i]] = std::max({e[0], e[1], e[2], e[3]});
+            vfloat4 s_lo, s_hi;
+            lateral_range<4>(i, vfloat4(z_lo), vfloat4(z_hi), s_lo, s_hi);
+            lo[i == 0 ? kx_ : ky_] = s_lo[0];
+            hi[i == 0 ? kx_ : ky_] = s_hi[0];
         }
         bounds.lo = vfloat4::setr(lo[0], lo[1], lo[2], 0.f) - tol;
         bounds.hi = vfloat4::setr(hi[0], hi[1], hi[2], 0.f) + tol;

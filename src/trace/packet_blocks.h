@@ -135,7 +135,7 @@ void for_each_block_or_run(int width, int height, Wanted&& wanted, LoadRun&& loa
         }
         if (!active) continue;
         load_run(packet, base, active);
-        fn(static_cast<const RayPacket<K>&>(packet), active, static_cast<const int*>(sample));
+        fn(packet, active, sample);
     }
 }
 
