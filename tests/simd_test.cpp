@@ -167,6 +167,24 @@ TYPED_TEST(Simd, LoadsStoresLanesAndReductions) {
         for (int c = 0; c < 3; ++c)
             EXPECT_TRUE(same_bits(rec3[c][i], pool[size_t(1 + 3 * i + c)])) << i << " " << c;
     }
+
+    // The same in rows of a packet's width, a row stride apart (a block of a wider tile), and
+    // with the rows adjacent (a run).
+    constexpr int width = K == 4 ? 2 : 4, rows = K / width;
+    for (const int records_apart : {width + 3, width}) {
+        const std::vector<float> grid = test_values(size_t(8 * records_apart * rows + 1), 12);
+        load_record_rows8(grid.data() + 1, 8 * records_apart, rec8);
+        load_record_rows3(grid.data() + 1, 3 * records_apart, rec3);
+        for (int i = 0; i < K; ++i) {
+            const int record = (i / width) * records_apart + i % width;
+            for (int f = 0; f < 8; ++f)
+                EXPECT_TRUE(same_bits(rec8[f][i], grid[size_t(1 + 8 * record + f)]))
+                    << records_apart << " " << i << " " << f;
+            for (int c = 0; c < 3; ++c)
+                EXPECT_TRUE(same_bits(rec3[c][i], grid[size_t(1 + 3 * record + c)]))
+                    << records_apart << " " << i << " " << c;
+        }
+    }
 }
 
 TYPED_TEST(Simd, MasksMatchTheirBits) {

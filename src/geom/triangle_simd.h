@@ -54,7 +54,7 @@ struct alignas(sizeof(vfloat<K>)) WatertightPacket {
     /// Per lane the constants of WatertightRay(Ray{org, dir, tmin, tmax}), bit for bit.
     /// `active` only decides whether the permutation is uniform; inactive lanes should hold
     /// finite values (a copy of an active ray) to keep the arithmetic free of slow denormals.
-    RTT_FORCEINLINE WatertightPacket(const Vec3v<K>& org_, const Vec3v<K>& dir, vfloat<K> tmin_,
+    RTT_FORCEINLINE WatertightPacket(Vec3v<K> org_, const Vec3v<K>& dir, vfloat<K> tmin_,
                                      vfloat<K> tmax_, vbool<K> active)
         : org(org_), tmin(tmin_), tmax(tmax_) {
         // kz = max_abs_axis(dir): x on ties with y or z, then y on ties with z.
@@ -80,7 +80,12 @@ struct alignas(sizeof(vfloat<K>)) WatertightPacket {
             ukx = kx[lane];
             uky = ky[lane];
             ukz = kz[lane];
-            porg = {org[ukx], org[uky], org[ukz]};
+            // Selected in registers: indexing org would put it in memory, and copying it
+            // from there stalled on store forwarding (perf, `packet`).
+            const auto axis = [&](int a) {
+                return pick_axis<K>(org, vbool<K>(a == 0), vbool<K>(a == 1));
+            };
+            porg = {axis(ukx), axis(uky), axis(ukz)};
         }
     }
 };

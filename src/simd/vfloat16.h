@@ -3,6 +3,7 @@
 
 #include <immintrin.h>
 
+#include "simd/vfloat4.h"
 #include "simd/vint16.h"
 
 // GCC 12's AVX-512 intrinsics (min, max, sqrt, reductions...) pass _mm512_undefined_*() as the
@@ -127,10 +128,11 @@ RTT_FORCEINLINE vfloat16 as_float(vint16 a) {
     return _mm512_castsi512_ps(a);
 }
 
-/// Reads 16 records of 8 floats, p[8 i + f], as 8 vectors: out[f] lane i = p[8 i + f] (three
-/// rounds of two-register permutes, each swapping one bit of the register number with one of
-/// the lane number; no gather, which is slow on some cores, and no staging through memory).
-RTT_FORCEINLINE void load_records8(const float* p, vfloat16 (&out)[8]) {
+/// Reads 16 records of 8 floats in four rows of 4, row r at p + r * stride, as 8 vectors:
+/// out[f] lane 4 r + i = p[r * stride + 8 i + f] (three rounds of two-register permutes, each
+/// swapping one bit of the register number with one of the lane number; no gather, which is
+/// slow on some cores, and no staging through memory).
+RTT_FORCEINLINE void load_record_rows8(const float* p, std::ptrdiff_t stride, vfloat16 (&out)[8]) {
     alignas(64) static constexpr int32_t index[3][2][16] = {
         {{0, 16, 2, 18, 4, 20, 6, 22, 8, 24, 10, 26, 12, 28, 14, 30},
          {1, 17, 3, 19, 5, 21, 7, 23, 9, 25, 11, 27, 13, 29, 15, 31}},
@@ -140,7 +142,7 @@ RTT_FORCEINLINE void load_records8(const float* p, vfloat16 (&out)[8]) {
         {{0, 8, 1, 9, 2, 10, 3, 11, 16, 24, 17, 25, 18, 26, 19, 27},
          {4, 12, 5, 13, 6, 14, 7, 15, 20, 28, 21, 29, 22, 30, 23, 31}}};
     __m512 r[8];
-    for (int j = 0; j < 8; ++j) r[j] = _mm512_loadu_ps(p + 16 * j);
+    for (int j = 0; j < 8; ++j) r[j] = _mm512_loadu_ps(p + (j / 2) * stride + 16 * (j % 2));
     for (int s = 0; s < 3; ++s) {
         const __m512i lo = _mm512_load_si512(index[s][0]), hi = _mm512_load_si512(index[s][1]);
         for (int a = 0; a < 8; ++a) {
@@ -152,6 +154,12 @@ RTT_FORCEINLINE void load_records8(const float* p, vfloat16 (&out)[8]) {
         }
     }
     for (int f = 0; f < 8; ++f) out[f] = r[f];
+}
+
+/// Reads 16 consecutive records of 8 floats, p[8 i + f], as 8 vectors: out[f] lane i =
+/// p[8 i + f].
+RTT_FORCEINLINE void load_records8(const float* p, vfloat16 (&out)[8]) {
+    load_record_rows8(p, 32, out);
 }
 
 /// Reads 16 records of 3 floats, p[3 i + c], as 3 vectors: out[c] lane i = p[3 i + c].
@@ -171,6 +179,23 @@ RTT_FORCEINLINE void load_records3(const float* p, vfloat16 (&out)[3]) {
     for (int c = 0; c < 3; ++c) {
         const __m512 t = _mm512_permutex2var_ps(r0, _mm512_load_si512(first[c]), r1);
         out[c] = _mm512_permutex2var_ps(t, _mm512_load_si512(second[c]), r2);
+    }
+}
+
+/// Reads 16 records of 3 floats in four rows of 4, row r at p + r * stride, as 3 vectors:
+/// out[c] lane 4 r + i = p[r * stride + 3 i + c] (each row as 4 lanes, then inserted).
+RTT_FORCEINLINE void load_record_rows3(const float* p, std::ptrdiff_t stride, vfloat16 (&out)[3]) {
+    if (stride == 12) {  // the rows are one run: fewer, wider loads
+        load_records3(p, out);
+        return;
+    }
+    vfloat4 row[4][3];
+    for (int r = 0; r < 4; ++r) load_records3(p + r * stride, row[r]);
+    for (int c = 0; c < 3; ++c) {
+        __m512 v = _mm512_castps128_ps512(row[0][c]);
+        v = _mm512_insertf32x4(v, row[1][c], 1);
+        v = _mm512_insertf32x4(v, row[2][c], 2);
+        out[c] = _mm512_insertf32x4(v, row[3][c], 3);
     }
 }
 

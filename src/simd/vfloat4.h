@@ -3,6 +3,8 @@
 
 #include <immintrin.h>
 
+#include <cstddef>
+
 #include "simd/vint4.h"
 
 namespace rtt {
@@ -130,12 +132,12 @@ RTT_FORCEINLINE vfloat4 as_float(vint4 a) {
     return _mm_castsi128_ps(a);
 }
 
-/// Reads 4 records of 8 floats, p[8 i + f], as 8 vectors: out[f] lane i = p[8 i + f] (two 4x4
-/// transposes, one per half record).
-RTT_FORCEINLINE void load_records8(const float* p, vfloat4 (&out)[8]) {
+/// Reads 4 records of 8 floats in two rows of 2, row r at p + r * stride, as 8 vectors: out[f]
+/// lane 2 r + i = p[r * stride + 8 i + f] (two 4x4 transposes, one per half record).
+RTT_FORCEINLINE void load_record_rows8(const float* p, std::ptrdiff_t stride, vfloat4 (&out)[8]) {
     for (int h = 0; h < 2; ++h) {
         __m128 a = _mm_loadu_ps(p + 4 * h), b = _mm_loadu_ps(p + 8 + 4 * h),
-               c = _mm_loadu_ps(p + 16 + 4 * h), d = _mm_loadu_ps(p + 24 + 4 * h);
+               c = _mm_loadu_ps(p + stride + 4 * h), d = _mm_loadu_ps(p + stride + 8 + 4 * h);
         _MM_TRANSPOSE4_PS(a, b, c, d);
         out[4 * h] = a;
         out[4 * h + 1] = b;
@@ -144,9 +146,21 @@ RTT_FORCEINLINE void load_records8(const float* p, vfloat4 (&out)[8]) {
     }
 }
 
-/// Reads 4 records of 3 floats, p[3 i + c], as 3 vectors: out[c] lane i = p[3 i + c].
+/// Reads 4 consecutive records of 8 floats, p[8 i + f], as 8 vectors: out[f] lane i = p[8 i + f].
+RTT_FORCEINLINE void load_records8(const float* p, vfloat4 (&out)[8]) {
+    load_record_rows8(p, 16, out);
+}
+
+/// Reads 4 records of 3 floats in two rows of 2, row r at p + r * stride, as 3 vectors: out[c]
+/// lane 2 r + i = p[r * stride + 3 i + c].
+RTT_FORCEINLINE void load_record_rows3(const float* p, std::ptrdiff_t stride, vfloat4 (&out)[3]) {
+    for (int c = 0; c < 3; ++c)
+        out[c] = _mm_setr_ps(p[c], p[3 + c], p[stride + c], p[stride + 3 + c]);
+}
+
+/// Reads 4 consecutive records of 3 floats, p[3 i + c], as 3 vectors: out[c] lane i = p[3 i + c].
 RTT_FORCEINLINE void load_records3(const float* p, vfloat4 (&out)[3]) {
-    for (int c = 0; c < 3; ++c) out[c] = _mm_setr_ps(p[c], p[3 + c], p[6 + c], p[9 + c]);
+    load_record_rows3(p, 6, out);
 }
 
 }  // namespace rtt

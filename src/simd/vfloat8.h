@@ -123,11 +123,12 @@ RTT_FORCEINLINE vfloat8 as_float(vint8 a) {
     return _mm256_castsi256_ps(a);
 }
 
-/// Reads 8 records of 8 floats, p[8 i + f], as 8 vectors: out[f] lane i = p[8 i + f] (the
-/// classic 8x8 transpose: unpack, shuffle, swap 128-bit halves).
-RTT_FORCEINLINE void load_records8(const float* p, vfloat8 (&out)[8]) {
+/// Reads 8 records of 8 floats in two rows of 4, row r at p + r * stride, as 8 vectors: out[f]
+/// lane 4 r + i = p[r * stride + 8 i + f] (the classic 8x8 transpose: unpack, shuffle, swap
+/// 128-bit halves).
+RTT_FORCEINLINE void load_record_rows8(const float* p, std::ptrdiff_t stride, vfloat8 (&out)[8]) {
     __m256 r[8], t[8], s[8];
-    for (int j = 0; j < 8; ++j) r[j] = _mm256_loadu_ps(p + 8 * j);
+    for (int j = 0; j < 8; ++j) r[j] = _mm256_loadu_ps(p + (j / 4) * stride + 8 * (j % 4));
     for (int j = 0; j < 8; j += 2) {
         t[j] = _mm256_unpacklo_ps(r[j], r[j + 1]);
         t[j + 1] = _mm256_unpackhi_ps(r[j], r[j + 1]);
@@ -142,6 +143,11 @@ RTT_FORCEINLINE void load_records8(const float* p, vfloat8 (&out)[8]) {
         out[f] = _mm256_permute2f128_ps(s[f], s[f + 4], 0x20);
         out[f + 4] = _mm256_permute2f128_ps(s[f], s[f + 4], 0x31);
     }
+}
+
+/// Reads 8 consecutive records of 8 floats, p[8 i + f], as 8 vectors: out[f] lane i = p[8 i + f].
+RTT_FORCEINLINE void load_records8(const float* p, vfloat8 (&out)[8]) {
+    load_record_rows8(p, 32, out);
 }
 
 /// Reads 8 records of 3 floats, p[3 i + c], as 3 vectors: out[c] lane i = p[3 i + c]: per
@@ -166,6 +172,19 @@ RTT_FORCEINLINE void load_records3(const float* p, vfloat8 (&out)[3]) {
 /// The 8 lanes (lo[0..3], hi[0..3]).
 RTT_FORCEINLINE vfloat8 combine(vfloat4 lo, vfloat4 hi) {
     return _mm256_insertf128_ps(_mm256_castps128_ps256(lo), hi, 1);
+}
+
+/// Reads 8 records of 3 floats in two rows of 4, row r at p + r * stride, as 3 vectors: out[c]
+/// lane 4 r + i = p[r * stride + 3 i + c] (each row as 4 lanes, then the halves combined).
+RTT_FORCEINLINE void load_record_rows3(const float* p, std::ptrdiff_t stride, vfloat8 (&out)[3]) {
+    if (stride == 12) {  // the rows are one run: fewer, wider loads
+        load_records3(p, out);
+        return;
+    }
+    vfloat4 lo[3], hi[3];
+    load_records3(p, lo);
+    load_records3(p + stride, hi);
+    for (int c = 0; c < 3; ++c) out[c] = combine(lo[c], hi[c]);
 }
 
 }  // namespace rtt

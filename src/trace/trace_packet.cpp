@@ -281,13 +281,19 @@ void trace_packet(const KdTree& tree, std::span<const TriangleVerts> triangles,
             if (stats) stats->single_rays += 1;
         },
         [&](uint32_t lanes) {
-            const PacketHit<K> best =
-                stats ? traverse<K, false, true>(tree, triangles, rays, lanes, stats).best
-                      : traverse<K, false, false>(tree, triangles, rays, lanes, nullptr).best;
-            for (uint32_t b = lanes; b; b &= b - 1) {
-                const int lane = std::countr_zero(b);
-                hits[lane] = Hit{best.t[lane], uint32_t(best.tri[lane])};
-            }
+            // The hits are read from the traversal's result in place: copying the PacketHit
+            // first (a conditional's member) moved it with a load wider than its stores, which
+            // stalled on store forwarding (perf, `packet`).
+            const auto write = [&](const PacketHit<K>& best) {
+                for (uint32_t b = lanes; b; b &= b - 1) {
+                    const int lane = std::countr_zero(b);
+                    hits[lane] = Hit{best.t[lane], uint32_t(best.tri[lane])};
+                }
+            };
+            if (stats)
+                write(traverse<K, false, true>(tree, triangles, rays, lanes, stats).best);
+            else
+                write(traverse<K, false, false>(tree, triangles, rays, lanes, nullptr).best);
         });
 }
 
