@@ -55,8 +55,10 @@ void primary(benchmark::State& state, const std::string& kind) {
         for (const Band& band : frame->bands) {
             hits.resize(band.rays.size());
             const size_t n = band.tile_samples();
-            for (size_t t = 0; t < band.tile_count(); ++t)
+            for (size_t t = 0; t < band.tile_count(); ++t) {
+                band.prefetch_ray_tile(t + 1);  // hot rays, as the renderer's (workload.h)
                 tracer->intersect(band.ray_tile(t), std::span(hits).subspan(t * n, n));
+            }
             benchmark::DoNotOptimize(hits.data());
         }
     state.counters["Mrays"] = benchmark::Counter(double(frame->primary_rays) * 1e-6,
@@ -71,8 +73,11 @@ void shadow(benchmark::State& state, const std::string& kind) {
         for (const Band& band : frame->bands) {
             const size_t n = band.tile_samples();
             visible.resize(n);
-            for (const ShadowJob& job : band.shadow_jobs)
+            for (size_t j = 0; j < band.shadow_jobs.size(); ++j) {
+                band.prefetch_shadow_job(j + 1);
+                const ShadowJob& job = band.shadow_jobs[j];
                 tracer->occluded(band.segment_tile(job, lights[job.light].position), visible);
+            }
             benchmark::DoNotOptimize(visible.data());
         }
     state.counters["Mrays"] = benchmark::Counter(double(frame->shadow_rays) * 1e-6,

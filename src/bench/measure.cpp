@@ -81,12 +81,14 @@ struct BandRunner {
         hits.resize(band.rays.size());
         if (!stats) {
             for_each_index(arena, band.tile_count(), [&](size_t i) {
+                band.prefetch_ray_tile(i + 1);
                 t.intersect(band.ray_tile(i), std::span(hits).subspan(i * n, n));
             });
             return;
         }
         tbb::combinable<TraceStats> sums;
         for_each_index(arena, band.tile_count(), [&](size_t i) {
+            band.prefetch_ray_tile(i + 1);
             t.intersect(band.ray_tile(i), std::span(hits).subspan(i * n, n), &sums.local());
         });
         sums.combine_each([&](const TraceStats& s) { *stats += s; });
@@ -96,6 +98,7 @@ struct BandRunner {
         const size_t n = band.tile_samples();
         visible.resize(band.shadow_jobs.size() * n);
         auto one = [&](size_t j, TraceStats* s) {
+            band.prefetch_shadow_job(j + 1);
             const ShadowJob& job = band.shadow_jobs[j];
             t.occluded(band.segment_tile(job, scene.lights[job.light].position),
                        std::span(visible).subspan(j * n, n), s);

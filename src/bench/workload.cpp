@@ -1,5 +1,7 @@
 #include "bench/workload.h"
 
+#include <immintrin.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <string>
@@ -50,6 +52,31 @@ SegmentTile Band::segment_tile(const ShadowJob& job, const Vec3f& light_position
                        std::span<const uint32_t>(triangles).subspan(first, n),
                        std::span<const uint8_t>(masks).subspan(job.mask_offset, n),
                        true};
+}
+
+namespace {
+
+void prefetch_bytes(const void* data, size_t bytes) {
+    const auto* p = static_cast<const char*>(data);
+    for (size_t i = 0; i < bytes; i += 64) _mm_prefetch(p + i, _MM_HINT_T0);
+    if (bytes) _mm_prefetch(p + bytes - 1, _MM_HINT_T0);  // an unaligned range's last line
+}
+
+}  // namespace
+
+void Band::prefetch_ray_tile(size_t t) const {
+    if (t >= tile_count()) return;
+    const size_t n = tile_samples();
+    prefetch_bytes(rays.data() + t * n, n * sizeof(Ray));
+}
+
+void Band::prefetch_shadow_job(size_t j) const {
+    if (j >= shadow_jobs.size()) return;
+    const ShadowJob& job = shadow_jobs[j];
+    const size_t n = tile_samples(), first = size_t(job.tile) * n;
+    prefetch_bytes(points.data() + first, n * sizeof(Vec3f));
+    prefetch_bytes(triangles.data() + first, n * sizeof(uint32_t));
+    prefetch_bytes(masks.data() + job.mask_offset, n);
 }
 
 /// The renderer's shading context, kept for its light constants, surface_at and can_light:

@@ -71,6 +71,13 @@ struct Band {
     RayTile ray_tile(size_t t) const;
     /// Shadow tile of job j towards `light_position` (the scene's light of that job).
     SegmentTile segment_tile(const ShadowJob& job, const Vec3f& light_position) const;
+    /// Start loading the inputs of primary tile t / shadow job j into the cache. The harness
+    /// calls it one tile ahead, so that tracers read their tile as the renderer's do: it
+    /// generates a tile's rays, and its shadow points from that tile's hits, right before
+    /// tracing them. Without it every tracer waits on memory for each tile's first rays (the
+    /// bands are larger than L2), which added the same time per tile to every tracer.
+    void prefetch_ray_tile(size_t t) const;
+    void prefetch_shadow_job(size_t j) const;
 };
 
 /// One image configuration of one scene: W x H pixels, K x K samples per pixel.
