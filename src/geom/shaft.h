@@ -137,6 +137,11 @@ bool make_shaft(const Ray (&corners)[4], Shaft& shaft);
 /// the quad.
 bool make_shaft_corners(const Ray (&corners)[4], Shaft& shaft);
 bool make_shaft_quad(Shaft& shaft);
+/// Whether `shaft` has its quad, building it first when make_shaft_quad has not run (inline:
+/// the corner pass asks before every triangle it tests).
+inline bool complete_shaft(Shaft& shaft) {
+    return shaft.has_quad || make_shaft_quad(shaft);
+}
 
 /// True when `ray` may be answered from the shaft's relevant list: same origin and watertight
 /// permutation, float slopes inside the grown quad, start and end offsets inside the ranges.

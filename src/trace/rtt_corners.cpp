@@ -195,7 +195,7 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
             // A triangle met again in another leaf: its corner tests cannot change (the lanes'
             // tmax only shrank) and its relevance was decided.
             if (mailbox.seen(id)) continue;
-            if (!shaft.has_quad && !make_shaft_quad(shaft)) return CornerStatus::untraced;
+            if (!complete_shaft(shaft)) return CornerStatus::untraced;
             // Every lane tests every triangle met: a superset of the leaves trace_ray visits
             // per lane, which returns the same answers (trace_ray.h).
             const CornerVerdict v = test_corners<AnyHit>(shaft, triangles[id], lane_tmax);

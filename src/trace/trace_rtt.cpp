@@ -117,7 +117,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         for (int i = 0; i < 4; ++i) hits[cs[i]] = res.hit[i];
         // One plane P for the 4 hits, as the walk asks (primary_end): R ends on P.
         listed = status == CornerStatus::traced && primary_end(shaft, corners, res.hit, end) &&
-                 end.plane_id != no_plane && (shaft.has_quad || make_shaft_quad(shaft));
+                 end.plane_id != no_plane && complete_shaft(shaft);
         if (listed) {
             region.emplace(primary_region(shaft, end));
             listed = collect_deferred<false>(tree_, triangles_, shaft, *region,
