@@ -7,8 +7,14 @@
 //
 // One tracing thread. Counter Mrays = million rays (active segments) per CPU second of that
 // thread (Google Benchmark's rate; steadier than wall time on a shared machine).
+//
+// Split/... runs rtt, packet and the widest packets on two halves of the same frame: the tiles rtt
+// answers from a relevant list (at least one ray answered) and the tiles it declines (all traced),
+// so that what an answered tile costs can be set beside what tracing it costs (docs/benchmarks.md,
+// "What an answered tile costs"). Counter tiles = tiles of that half per frame.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -25,7 +31,39 @@ struct Frame {
     std::vector<Band> bands;
     uint64_t primary_rays = 0;
     uint64_t shadow_rays = 0;
+    /// Per band, per primary tile / per shadow job: rtt answered at least one of its rays.
+    std::vector<std::vector<uint8_t>> tile_answered, job_answered;
 };
+
+/// Which primary tiles and shadow jobs of `f` rtt answers (from a relevant list, at least one
+/// ray): the Split benchmarks' halves.
+void mark_answered(Frame& f) {
+    const auto rtt = make_tracer("rtt", f.scene.scene, f.scene.tree);
+    const std::vector<Light>& lights = f.scene.scene.lights;
+    for (const Band& band : f.bands) {
+        const size_t n = band.tile_samples();
+        std::vector<Hit> hits(n);
+        std::vector<uint8_t> visible(n);
+        std::vector<SampleAnswer> answers(n);
+        const auto any_answered = [&] {
+            for (const SampleAnswer a : answers)
+                if (a != SampleAnswer::traced) return uint8_t(1);
+            return uint8_t(0);
+        };
+        std::vector<uint8_t>& tiles = f.tile_answered.emplace_back(band.tile_count());
+        for (size_t t = 0; t < band.tile_count(); ++t) {
+            rtt->intersect(band.ray_tile(t), hits, nullptr, answers);
+            tiles[t] = any_answered();
+        }
+        std::vector<uint8_t>& jobs = f.job_answered.emplace_back(band.shadow_jobs.size());
+        for (size_t j = 0; j < band.shadow_jobs.size(); ++j) {
+            const ShadowJob& job = band.shadow_jobs[j];
+            rtt->occluded(band.segment_tile(job, lights[job.light].position), visible, nullptr,
+                          answers);
+            jobs[j] = any_answered();
+        }
+    }
+}
 
 Frame make_frame(const std::string& scene_name, int width, int height, int aa) {
     Frame f;
@@ -43,6 +81,7 @@ Frame make_frame(const std::string& scene_name, int width, int height, int aa) {
         f.bands.push_back(std::move(band));
     }
     f.primary_rays = workload.primary_rays();
+    mark_answered(f);
     return f;
 }
 
@@ -82,6 +121,45 @@ void shadow(benchmark::State& state, const std::string& kind) {
         }
     state.counters["Mrays"] = benchmark::Counter(double(frame->shadow_rays) * 1e-6,
                                                  benchmark::Counter::kIsIterationInvariantRate);
+}
+
+/// The primary tiles (shadows = false) or shadow jobs of one half of the frame: those rtt
+/// answers (answered = true) or those it declines, band by band, with the next one prefetched
+/// as in primary() and shadow().
+void split(benchmark::State& state, const std::string& kind, bool shadows, bool answered) {
+    const auto tracer = make_tracer(kind, frame->scene.scene, frame->scene.tree);
+    const std::vector<Light>& lights = frame->scene.scene.lights;
+    std::vector<std::vector<size_t>> chosen(frame->bands.size());
+    uint64_t tiles = 0;
+    for (size_t b = 0; b < frame->bands.size(); ++b) {
+        const std::vector<uint8_t>& in = shadows ? frame->job_answered[b] : frame->tile_answered[b];
+        for (size_t i = 0; i < in.size(); ++i)
+            if ((in[i] != 0) == answered) chosen[b].push_back(i);
+        tiles += chosen[b].size();
+    }
+    std::vector<Hit> hits;
+    std::vector<uint8_t> visible;
+    for (auto _ : state)
+        for (size_t b = 0; b < frame->bands.size(); ++b) {
+            const Band& band = frame->bands[b];
+            const std::vector<size_t>& ids = chosen[b];
+            hits.resize(band.tile_samples());
+            visible.resize(band.tile_samples());
+            for (size_t i = 0; i < ids.size(); ++i) {
+                const size_t next = i + 1 < ids.size() ? ids[i + 1] : ids[i] + 1;
+                if (shadows) {
+                    band.prefetch_shadow_job(next);
+                    const ShadowJob& job = band.shadow_jobs[ids[i]];
+                    tracer->occluded(band.segment_tile(job, lights[job.light].position), visible);
+                } else {
+                    band.prefetch_ray_tile(next);
+                    tracer->intersect(band.ray_tile(ids[i]), hits);
+                }
+            }
+            benchmark::DoNotOptimize(hits.data());
+            benchmark::DoNotOptimize(visible.data());
+        }
+    state.counters["tiles"] = double(tiles);
 }
 
 }  // namespace
@@ -125,6 +203,25 @@ int main(int argc, char** argv) {
         benchmark::RegisterBenchmark(("Shadow/" + kind).c_str(), rtt::bench::shadow, kind)
             ->Unit(benchmark::kMillisecond);
     }
+    // Split: the 4-wide baseline, the widest packets of this build (RTT's own fallback), rtt.
+    const std::vector<std::string>& kinds = rtt::tracer_kinds();
+    std::vector<std::string> split_kinds = {"packet"};
+    for (const char* wide : {"packet16", "packet8"})
+        if (std::find(kinds.begin(), kinds.end(), wide) != kinds.end()) {
+            split_kinds.push_back(wide);
+            break;
+        }
+    split_kinds.push_back("rtt");
+    for (const std::string& kind : split_kinds)
+        for (const bool shadows : {false, true})
+            for (const bool answered : {true, false}) {
+                const std::string name = std::string("Split/") +
+                                         (shadows ? "shadow/" : "primary/") +
+                                         (answered ? "answered/" : "declined/") + kind;
+                benchmark::RegisterBenchmark(name.c_str(), rtt::bench::split, kind, shadows,
+                                             answered)
+                    ->Unit(benchmark::kMillisecond);
+            }
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();
     return 0;
