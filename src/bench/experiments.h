@@ -81,8 +81,9 @@ ExperimentResult run_embree(const BenchConfig& config, SceneCache& scenes);
 /// Every figure of a result (tables, measurements, files, findings, extra).
 nlohmann::json experiment_json(const ExperimentResult& result);
 
-/// `rtt` without arguments: RTT against the 4-wide packets on `scene` at 640x480, K = 1, one
-/// thread, 3 repetitions; prints times, Mrays/s, rays traced, speed-ups and agreement.
+/// `rtt` without arguments: RTT against the 4-wide packets on `scene` at 640x480, K = 1 (the
+/// paper's Table 1), and at 320x240 with K = 4, one thread, 3 repetitions; prints times, rays
+/// traced, speed-ups and agreement.
 /// Does nothing but say so when this build has no "rtt" tracer.
 void print_rtt_vs_packet(std::FILE* out, const std::string& scene);
 
