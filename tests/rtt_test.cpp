@@ -264,10 +264,12 @@ TEST(Rtt, TrianglesOnTileCornerRays) {
     const KdTree tree = build_kdtree(scene);
     Differ d(scene, tree, "brute");
     Tally tally;
-    // K = 1 answers only tiles whose corners stay coherent, which these split planes through
-    // the corner rays rarely allow; K = 2 tiles go through the shaft walk and are answered.
+    // K = 1 and 2 answer only tiles whose corners stay coherent, which these split planes
+    // through the corner rays rarely allow; K = 3 tiles go through the shaft walk and are
+    // answered.
     d.run(camera, w, h, 1, {{1, 2, 4}}, tally);
     d.run(camera, w, h, 2, {{1, 2, 4}}, tally);
+    d.run(camera, w, h, 3, {{1, 2, 4}}, tally);
     tally.print("triangles on corner rays");
     EXPECT_EQ(tally.mismatches, 0u);
     EXPECT_EQ(tally.segment_mismatches, 0u);

@@ -1,5 +1,5 @@
 // RTT's corner traversal (paper section 3, ALGORITHM.md steps 1-2), used by "rtt-paper" and by
-// "rtt" at K = 1 (Lean; larger tiles walk the shaft instead, rtt_cull.h, sharing the types below): the 4 corner rays of a
+// "rtt" at K = 1 and 2 (Lean; larger tiles walk the shaft instead, rtt_cull.h, sharing the types below): the 4 corner rays of a
 // shaft go through the kd-tree as one SSE packet, with trace_ray's semantics per lane (they are
 // answers too), and every triangle of every leaf they reach is put through the shaft's five
 // conservative tests (geom/shaft.h) to build the tile's relevant list.
@@ -190,7 +190,7 @@ inline VerdictTaken take_verdict(const CornerVerdict& v, uint32_t id, CornerResu
 /// Nodes no lane enters are deferred (AnyHit: only when their box meets `*region`, which must
 /// hold every point of every segment answered from the list; unused, may be null, for closest
 /// hits).
-/// Lean (closest hits, "rtt" at K = 1): the paper's incoherence flag ends the pass at once
+/// Lean (closest hits, "rtt" at K = 1 and 2): the paper's incoherence flag ends the pass at once
 /// (`untraced`).
 /// `shaft` may lack its quad (make_shaft_corners only): it is completed (make_shaft_quad) when
 /// the first triangle is tested, which most passes that give up never reach; a refused quad

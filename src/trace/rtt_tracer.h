@@ -33,6 +33,16 @@ inline constexpr int deferred_budget(int n) {
 inline constexpr int cull_budget(int n) {
     return 48 + n;
 }
+/// Largest tile (samples) of rays from the apex that "rtt" answers with the lean corner pass
+/// (rtt-paper's corner packet stopped at the first sign of incoherence) instead of the shaft
+/// walk: 4x4 and 8x8 samples (K = 1, 2). Up to 8x8 samples the walk may not answer corners on
+/// several planes either, and a tile the lean pass cannot answer costs part of a corner packet
+/// instead of a walk up to its budget; larger tiles answer inner rays within the slab, which
+/// only the walk can. Reflected tiles start on their mirror plane, where the corners'
+/// intervals part at the first splits: at K = 2 the walk answers 3x more of their rays and is
+/// faster, at K = 1 the lean pass stays slightly faster (trace_rtt.cpp). Measured in
+/// docs/benchmarks.md, "The lean corner pass at K = 2".
+inline constexpr int lean_max_samples = 64;
 inline constexpr float unit_roundoff = 0x1p-24f;
 
 /// Per-thread scratch (tracers are called concurrently): the mailbox of the current tile and

@@ -88,9 +88,13 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
     Ray corners[4];
     int cs[4];
     Shaft shaft;
-    // K = 1 builds the slope quad only when its corner pass needs it (most that give up do not).
-    const bool lean = extended_ && n == 16;
     corners_of(tile, corners, cs);
+    // The lean pass for 4x4-sample tiles, and up to lean_max_samples for tiles whose rays start
+    // at the apex. It builds the slope quad only when it first needs it (most that give up do
+    // not).
+    const bool from_apex = corners[0].tmin == 0.f && corners[1].tmin == 0.f &&
+                           corners[2].tmin == 0.f && corners[3].tmin == 0.f;
+    const bool lean = extended_ && (n == 16 || (n <= lean_max_samples && from_apex));
     if (!(lean ? make_shaft_corners(corners, shaft) : make_shaft(corners, shaft))) {
         trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
         return;
@@ -100,13 +104,14 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
     bool listed = false;
     std::optional<ShaftRegion> region;  // primary_region(shaft, end), once it is built
     if (lean) {
-        // K = 1: the paper's procedure, leaner than the walk. The corners go through the tree
-        // as one SSE packet and the pass stops at the first sign of incoherence (the tile is
-        // then traced by 16-wide packets at once); nodes no corner enters are deferred
-        // untested and shaft culled against R afterwards, 16 boxes per test (collect_deferred,
-        // within deferred_budget). Exact as rtt-paper: every leaf whose box may meet R is tested
-        // (rtt_corners.h). Measured against the walk at 640x480 (docs/benchmarks.md): it
-        // answers fewer tiles (only coherent corners), but a tile it cannot answer costs a
+        // K = 1, and K = 2 from the apex (lean_max_samples): the paper's procedure, leaner than
+        // the walk. The
+        // corners go through the tree as one SSE packet and the pass stops at the first sign of
+        // incoherence (the tile is then traced by the widest packets at once); nodes no corner
+        // enters are deferred untested and shaft culled against R afterwards, 16 boxes per test
+        // (collect_deferred, within deferred_budget). Exact as rtt-paper: every leaf whose box
+        // may meet R is tested (rtt_corners.h). Measured against the walk (docs/benchmarks.md):
+        // it answers fewer tiles (only coherent corners), but a tile it cannot answer costs a
         // part of a corner packet instead of a walk up to its budget.
         const CornerStatus status = trace_corners<false, true>(tree_, triangles_, shaft, nullptr,
                                                                corners, tls_mailbox, res);
@@ -131,13 +136,11 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         //  * When the 4 hits first lie on one plane P, R narrows to P, and the walk gives up
         //    if the hits later move to another plane (the regions of two planes need not nest
         //    once the slope quad is grown): the whole tile is traced.
-        //  * When they first lie on several planes, tiles of 4x4 samples (K = 1) give up at
-        //    once (cheaper than finishing the walk and tracing the inner rays after it); larger
-        //    tiles narrow the slab's end only, and answer inner rays within the slab (an
-        //    object's silhouette over a wall: nearly all of them), which saves far more than
-        //    the longer walk and list cost from K = 3 on (measured on room; at K = 2 it is a
-        //    loss).
-        const bool slab_allowed = n > 64;
+        //  * When they first lie on several planes, R's slab end narrows only, and inner rays
+        //    are answered within the slab (an object's silhouette over a wall: nearly all of
+        //    them). The walk only takes tiles of more than lean_max_samples: from K = 3 on this
+        //    saves far more than the longer walk and list cost (measured on room; at K = 2 it
+        //    was a loss, and smaller tiles gave up here).
         ShaftRegion walk_region(shaft, tree_.bounds, shaft.start_lo, pos_inf);
         uint32_t plane = no_plane;
         bool slab_only = false;
@@ -145,7 +148,6 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
             PrimaryEnd e;
             if (!primary_end(shaft, corners, best.t, best.tri, e)) return Narrowed::same;
             if (plane == no_plane && !slab_only) {
-                if (e.plane_id == no_plane && !slab_allowed) return Narrowed::abandon;
                 slab_only = e.plane_id == no_plane;
                 plane = e.plane_id;
             }
