@@ -125,9 +125,8 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
                  end.plane_id != no_plane && complete_shaft(shaft);
         if (listed) {
             region.emplace(primary_region(shaft, end));
-            listed = collect_deferred<false>(tree_, triangles_, shaft, *region,
-                                             deferred_budget(n), tls_mailbox,
-                                             res) == CornerStatus::traced;
+            listed = collect_deferred<false>(tree_, triangles_, shaft, *region, deferred_budget(n),
+                                             tls_mailbox, res) == CornerStatus::traced;
         }
     } else if (extended_) {
         // One walk through the shaft (rtt_cull.h), narrowed as the corners' hits come nearer.
@@ -163,8 +162,8 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
             return;
         }
         for (int i = 0; i < 4; ++i) hits[cs[i]] = res.hit[i];
-        listed = primary_end(shaft, corners, res.hit, end) &&
-                 (slab_only || end.plane_id != no_plane);
+        listed =
+            primary_end(shaft, corners, res.hit, end) && (slab_only || end.plane_id != no_plane);
     } else {
         CornerStatus status =
             trace_corners<false>(tree_, triangles_, shaft, nullptr, corners, tls_mailbox, res);
@@ -179,8 +178,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
                                   res.hit[3].tri == res.hit[0].tri;
         listed =
             status == CornerStatus::traced && one_triangle && res.coherent &&
-            primary_end(shaft, corners, res.hit, end) &&
-            end.plane_id != no_plane &&
+            primary_end(shaft, corners, res.hit, end) && end.plane_id != no_plane &&
             collect_deferred<false>(tree_, triangles_, shaft, primary_region(shaft, end),
                                     deferred_budget(n), tls_mailbox, res) == CornerStatus::traced;
     }
