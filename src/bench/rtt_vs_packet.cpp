@@ -24,11 +24,12 @@ void print_rtt_vs_packet(std::FILE* out, const std::string& scene_name) {
     std::fflush(out);
     const BenchScene scene = load_bench_scene(scene_name);
     const std::string wide = detail::widest_packet();
+    const std::vector<NamedTracer> tracers =
+        make_tracers(scene, detail::available({"packet", wide, "rtt"}));
     std::vector<Measurement> measured;
     for (const Setting& s : settings)
-        measured.push_back(detail::run_measurement(
-            config, scene, make_tracers(scene, detail::available({"packet", wide, "rtt"})), s.width,
-            s.height, s.aa, 1));
+        measured.push_back(
+            detail::run_measurement(config, scene, tracers, s.width, s.height, s.aa, 1));
 
     TextTable t;
     t.header = {"rays",       "image",    "count",    "packet ms", "rtt ms",
@@ -39,11 +40,11 @@ void print_rtt_vs_packet(std::FILE* out, const std::string& scene_name) {
         const Setting& s = settings[i];
         const std::string image = detail::size_label(s.width, s.height) + " " +
                                   std::to_string(s.aa) + "x" + std::to_string(s.aa);
+        // The paper's Table 1 is at 640x480 without antialiasing only.
+        const bool paper_setting = p && s.aa == 1 && s.width == 640 && s.height == 480;
         for (bool shadow : {false, true}) {
             const KindResult& a = shadow ? m.find("packet")->shadow : m.find("packet")->primary;
             const KindResult& b = shadow ? m.find("rtt")->shadow : m.find("rtt")->primary;
-            // The paper's Table 1 is at 640x480 without antialiasing only.
-            const bool paper_setting = p && s.aa == 1 && s.width == 640 && s.height == 480;
             t.rows.push_back(
                 {shadow ? "shadow" : "primary", image, format_count(a.rays),
                  format_ms(a.seconds(config.clock)), format_ms(b.seconds(config.clock)),

@@ -35,14 +35,22 @@ inline constexpr int cull_budget(int n) {
 }
 /// Largest tile (samples) of rays from the apex that "rtt" answers with the lean corner pass
 /// (rtt-paper's corner packet stopped at the first sign of incoherence) instead of the shaft
-/// walk: 4x4 and 8x8 samples (K = 1, 2). Up to 8x8 samples the walk may not answer corners on
-/// several planes either, and a tile the lean pass cannot answer costs part of a corner packet
-/// instead of a walk up to its budget; larger tiles answer inner rays within the slab, which
-/// only the walk can. Reflected tiles start on their mirror plane, where the corners'
-/// intervals part at the first splits: at K = 2 the walk answers 3x more of their rays and is
-/// faster, at K = 1 the lean pass stays slightly faster (trace_rtt.cpp). Measured in
-/// docs/benchmarks.md, "The lean corner pass at K = 2".
+/// walk: 4x4 and 8x8 samples (K = 1, 2). There the walk's answers within the slab (corners on
+/// several planes) do not pay for its cost, and a tile the lean pass cannot answer costs part of
+/// a corner packet instead of a walk up to its budget. Measured in docs/benchmarks.md, "The lean
+/// corner pass at K = 2".
 inline constexpr int lean_max_samples = 64;
+/// Whether a primary or reflected shaft tile of n samples whose corners are `corners` takes the
+/// lean pass. Reflected tiles start on their mirror plane, not at the apex, and the corners'
+/// intervals part at the first splits near it: at K = 2 the walk answers 3x more of their rays
+/// and is faster; at K = 1 the lean pass stays slightly faster.
+inline bool takes_lean_pass(int n, const Ray (&corners)[4]) {
+    if (n == 16) return true;
+    if (n > lean_max_samples) return false;
+    for (const Ray& c : corners)
+        if (c.tmin != 0.f) return false;
+    return true;
+}
 inline constexpr float unit_roundoff = 0x1p-24f;
 
 /// Per-thread scratch (tracers are called concurrently): the mailbox of the current tile and

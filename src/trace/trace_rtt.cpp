@@ -89,12 +89,9 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
     int cs[4];
     Shaft shaft;
     corners_of(tile, corners, cs);
-    // The lean pass for 4x4-sample tiles, and up to lean_max_samples for tiles whose rays start
-    // at the apex. It builds the slope quad only when it first needs it (most that give up do
+    // The lean pass builds the slope quad only when it first needs it (most that give up do
     // not).
-    const bool from_apex = corners[0].tmin == 0.f && corners[1].tmin == 0.f &&
-                           corners[2].tmin == 0.f && corners[3].tmin == 0.f;
-    const bool lean = extended_ && (n == 16 || (n <= lean_max_samples && from_apex));
+    const bool lean = extended_ && takes_lean_pass(n, corners);
     if (!(lean ? make_shaft_corners(corners, shaft) : make_shaft(corners, shaft))) {
         trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
         return;
@@ -104,15 +101,12 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
     bool listed = false;
     std::optional<ShaftRegion> region;  // primary_region(shaft, end), once it is built
     if (lean) {
-        // K = 1, and K = 2 from the apex (lean_max_samples): the paper's procedure, leaner than
-        // the walk. The
+        // Small tiles (takes_lean_pass): the paper's procedure, leaner than the walk. The
         // corners go through the tree as one SSE packet and the pass stops at the first sign of
         // incoherence (the tile is then traced by the widest packets at once); nodes no corner
         // enters are deferred untested and shaft culled against R afterwards, 16 boxes per test
         // (collect_deferred, within deferred_budget). Exact as rtt-paper: every leaf whose box
-        // may meet R is tested (rtt_corners.h). Measured against the walk (docs/benchmarks.md):
-        // it answers fewer tiles (only coherent corners), but a tile it cannot answer costs a
-        // part of a corner packet instead of a walk up to its budget.
+        // may meet R is tested (rtt_corners.h).
         const CornerStatus status = trace_corners<false, true>(tree_, triangles_, shaft, nullptr,
                                                                corners, tls_mailbox, res);
         if (status == CornerStatus::untraced) {
@@ -137,9 +131,9 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         //    once the slope quad is grown): the whole tile is traced.
         //  * When they first lie on several planes, R's slab end narrows only, and inner rays
         //    are answered within the slab (an object's silhouette over a wall: nearly all of
-        //    them). The walk only takes tiles of more than lean_max_samples: from K = 3 on this
-        //    saves far more than the longer walk and list cost (measured on room; at K = 2 it
-        //    was a loss, and smaller tiles gave up here).
+        //    them). The walk takes camera tiles from K = 3 on, where this saves far more than
+        //    the longer walk and list cost, and reflected tiles (room 1280x960, K = 2: 221,932
+        //    reflected rays answered against 201,900 when several planes gave up, same speed).
         ShaftRegion walk_region(shaft, tree_.bounds, shaft.start_lo, pos_inf);
         uint32_t plane = no_plane;
         bool slab_only = false;
