@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "bench/workload.h"
+#include "experiments/workload.h"
 
 namespace rtt::bench {
 namespace {

@@ -14,7 +14,7 @@
 #include "fuzz_util.h"
 #include "rtt/camera.h"
 #include "rtt/kdtree.h"
-#include "rtt/parse.h"
+#include "cli_values.h"
 #include "rtt/render.h"
 #include "rtt/tracer.h"
 

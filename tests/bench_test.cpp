@@ -10,13 +10,13 @@
 #include <filesystem>
 #include <fstream>
 
-#include "bench/experiments.h"
-#include "bench/machine_info.h"
-#include "bench/measure.h"
-#include "bench/plot_svg.h"
-#include "bench/report.h"
-#include "bench/results_doc.h"
-#include "bench/workload.h"
+#include "experiments/experiments.h"
+#include "experiments/machine_info.h"
+#include "experiments/measure.h"
+#include "experiments/plot_svg.h"
+#include "experiments/report.h"
+#include "experiments/results_doc.h"
+#include "experiments/workload.h"
 #include "rtt/error.h"
 #include "rtt/render.h"
 #include "scene/procedural.h"

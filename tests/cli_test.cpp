@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "geom/triangle.h"
+#include "cli_values.h"
 #include "rtt/camera.h"
 #include "rtt/io.h"
 #include "rtt/tracer.h"

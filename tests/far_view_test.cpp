@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "agreement.h"
+#include "cli_values.h"
 #include "rtt/camera.h"
 #include "rtt/kdtree.h"
 #include "rtt/scene.h"

@@ -15,6 +15,7 @@
 
 #include "geom/triangle.h"
 #include "kdtree/kd_clip.h"
+#include "cli_values.h"
 #include "rtt/camera.h"
 #include "rtt/error.h"
 #include "rtt/kdtree.h"

@@ -13,7 +13,7 @@
 #include "rtt/camera.h"
 #include "rtt/error.h"
 #include "rtt/io.h"
-#include "rtt/parse.h"
+#include "cli_values.h"
 #include "rtt/scene_io.h"
 #include "scene/assimp_sandbox.h"
 #include "scene/importers.h"

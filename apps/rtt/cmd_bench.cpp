@@ -4,9 +4,9 @@
 #include <memory>
 #include <sstream>
 
-#include "bench/experiments.h"
-#include "bench/results_doc.h"
-#include "bench/workload.h"
+#include "experiments/experiments.h"
+#include "experiments/results_doc.h"
+#include "experiments/workload.h"
 #include "commands.h"
 #include "rtt/error.h"
 #include "rtt/io.h"

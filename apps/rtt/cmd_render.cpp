@@ -12,7 +12,7 @@
 #include "rtt/error.h"
 #include "rtt/io.h"
 #include "rtt/kdtree.h"
-#include "rtt/parse.h"
+#include "cli_values.h"
 #include "rtt/render.h"
 #include "rtt/tracer.h"
 #include "stats_report.h"

@@ -1,7 +1,7 @@
 // `rtt` with no arguments: the README's main job.
 #include <cstdio>
 
-#include "bench/experiments.h"
+#include "experiments/experiments.h"
 #include "commands.h"
 #include "render_job.h"
 #include "stats_report.h"

@@ -7,6 +7,7 @@
 
 #include "commands.h"
 #include "rtt/error.h"
+#include "rtt/version.h"
 
 namespace {
 
@@ -26,7 +27,7 @@ int main(int argc, char** argv) {
         "the statistics."};
     app.name("rtt");
     app.require_subcommand(0, 1);
-    app.set_version_flag("--version", "rtt 0.1.0");
+    app.set_version_flag("--version", std::string("rtt ") + rtt::version_string);
     rtt::cli::add_render_command(app);
     rtt::cli::add_info_command(app);
     rtt::cli::add_scenes_command(app);

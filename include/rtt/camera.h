@@ -41,7 +41,4 @@ private:
 /// A camera looking at `box` from a diagonal, far enough to see all of it.
 Camera default_camera_for(const Bbox3f& box, float fovy_deg = 50.f);
 
-/// Parses "px,py,pz,tx,ty,tz,ux,uy,uz,fovy"; throws rtt::Error on malformed text.
-Camera parse_camera(const std::string& text);
-
 }  // namespace rtt

@@ -10,8 +10,6 @@
 #include <cstdint>
 #include <string>
 
-#include "rtt/render.h"
-
 namespace rtt {
 
 /// Bytes this process may use at most: the smallest of the machine's physical memory, the
@@ -27,9 +25,7 @@ void require_memory(uint64_t bytes, const std::string& what);
 /// the build (parent and children alive together), nodes and leaf lists.
 uint64_t scene_memory_bytes(uint64_t vertices, uint64_t triangles);
 
-/// Estimated bytes of one render() with these options and what `rtt render` keeps beside it:
-/// the linear pixels, the 8-bit image, the Figure 5 maps and the hit and shadow buffers (with
-/// the copy the buffer writer makes).
-uint64_t render_memory_bytes(const RenderOptions& options);
+/// a * b + c, saturating at UINT64_MAX instead of wrapping (counts come from files).
+uint64_t saturating_mul_add(uint64_t a, uint64_t b, uint64_t c);
 
 }  // namespace rtt

@@ -123,6 +123,11 @@ struct RenderResult {
 /// options out of range (RenderOptions::validate) or a degenerate camera.
 RenderResult render(const Scene& scene, const Tracer& tracer, const RenderOptions& options);
 
+/// Estimated bytes of one render() with these options and what `rtt render` keeps beside it:
+/// the linear pixels, the 8-bit image, the Figure 5 maps and the hit and shadow buffers (with
+/// the copy the buffer writer makes).
+uint64_t render_memory_bytes(const RenderOptions& options);
+
 /// 8-bit sRGB (R, G, B per pixel) of linear pixels, clamped to [0, 1].
 std::vector<uint8_t> encode_srgb8(const std::vector<Vec3f>& pixels);
 

@@ -56,13 +56,12 @@ std::string gib(uint64_t bytes) {
     return text;
 }
 
-/// a * b + c, saturating instead of wrapping (counts come from files).
-uint64_t mul_add(uint64_t a, uint64_t b, uint64_t c) {
+}  // namespace
+
+uint64_t saturating_mul_add(uint64_t a, uint64_t b, uint64_t c) {
     if (b != 0 && a > (unlimited - c) / b) return unlimited;
     return a * b + c;
 }
-
-}  // namespace
 
 uint64_t memory_budget() {
     return std::min({machine_limit(), rlimit_bytes(RLIMIT_AS), rlimit_bytes(RLIMIT_DATA)});
@@ -83,20 +82,7 @@ uint64_t scene_memory_bytes(uint64_t vertices, uint64_t triangles) {
     // 1M random triangles, 429 with the scene and a tracer; 477 for the build of crossing
     // needles, the worst case the kd-tree's reference budget allows.
     constexpr uint64_t per_vertex = 24, per_triangle = 384;
-    return mul_add(triangles, per_triangle, mul_add(vertices, per_vertex, 0));
-}
-
-uint64_t render_memory_bytes(const RenderOptions& o) {
-    const uint64_t w = uint64_t(std::max(o.width, 0)), h = uint64_t(std::max(o.height, 0));
-    const uint64_t k = uint64_t(std::max(o.aa, 0));
-    // Sides below 2^31: w * h and k * k fit; their product saturates.
-    const uint64_t pixels = w * h, samples = mul_add(pixels, k * k, 0);
-    // Linear RGB (12) and the 8-bit sRGB copy written to PNG (3), plus one byte per map.
-    const uint64_t per_pixel = 15 + (o.primary_map ? 1 : 0) + (o.shadow_map_light >= 0 ? 1 : 0);
-    // Each buffer holds 4 bytes per sample, and the buffer writer's HitBuffer / ShadowBuffer
-    // copies it once more.
-    const uint64_t per_sample = 8 * ((o.hits_buffer ? 1 : 0) + (o.shadow_buffer ? 1 : 0));
-    return mul_add(samples, per_sample, mul_add(pixels, per_pixel, 0));
+    return saturating_mul_add(triangles, per_triangle, saturating_mul_add(vertices, per_vertex, 0));
 }
 
 }  // namespace rtt

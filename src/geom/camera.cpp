@@ -2,7 +2,7 @@
 // with -ffp-contract=off: each expression is evaluated as written, in 32-bit float.
 #include <cmath>
 #include <numbers>
-#include <sstream>
+#include <string>
 #include <vector>
 
 #include "core/check.h"
@@ -71,28 +71,4 @@ Camera default_camera_for(const Bbox3f& box, float fovy_deg) {
     const Vec3f dir = normalize(Vec3f{1.f, 0.6f, 1.3f});
     return Camera{c + dir * dist, c, Vec3f{0.f, 1.f, 0.f}, fovy_deg};
 }
-
-Camera parse_camera(const std::string& text) {
-    std::vector<float> v;
-    std::stringstream ss(text);
-    std::string item;
-    while (std::getline(ss, item, ',')) {
-        try {
-            size_t used = 0;
-            const float f = std::stof(item, &used);
-            if (used != item.size() && item.find_first_not_of(" \t", used) != std::string::npos)
-                throw Error("");
-            v.push_back(f);
-        } catch (...) {
-            throw Error("camera: '" + item + "' is not a number (expected px,py,pz,tx,ty,tz,ux,uy,uz,fovy)");
-        }
-    }
-    if (v.size() != 10)
-        throw Error("camera: expected 10 comma-separated numbers px,py,pz,tx,ty,tz,ux,uy,uz,fovy, got " +
-                    std::to_string(v.size()));
-    for (float f : v)
-        if (!std::isfinite(f)) throw Error("camera: NaN or infinite value");
-    return Camera{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, v[9]};
-}
-
 }  // namespace rtt

@@ -1,7 +1,9 @@
-#include "rtt/parse.h"
+#include "cli_values.h"
 
 #include <charconv>
 #include <cmath>
+#include <sstream>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -58,6 +60,29 @@ void parse_size(const std::string& text, int& width, int& height) {
     if (x == std::string::npos || !number(std::string_view(text).substr(0, x), width) ||
         !number(std::string_view(text).substr(x + 1), height))
         throw Error("--size: expected WxH with whole numbers, e.g. 640x480, got '" + text + "'");
+}
+
+Camera parse_camera(const std::string& text) {
+    std::vector<float> v;
+    std::stringstream ss(text);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+        try {
+            size_t used = 0;
+            const float f = std::stof(item, &used);
+            if (used != item.size() && item.find_first_not_of(" \t", used) != std::string::npos)
+                throw Error("");
+            v.push_back(f);
+        } catch (...) {
+            throw Error("camera: '" + item + "' is not a number (expected px,py,pz,tx,ty,tz,ux,uy,uz,fovy)");
+        }
+    }
+    if (v.size() != 10)
+        throw Error("camera: expected 10 comma-separated numbers px,py,pz,tx,ty,tz,ux,uy,uz,fovy, got " +
+                    std::to_string(v.size()));
+    for (float f : v)
+        if (!std::isfinite(f)) throw Error("camera: NaN or infinite value");
+    return Camera{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, v[9]};
 }
 
 }  // namespace rtt

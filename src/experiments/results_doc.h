@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "bench/experiments.h"
-#include "bench/machine_info.h"
+#include "experiments/experiments.h"
+#include "experiments/machine_info.h"
 
 namespace rtt::bench {
 

@@ -1,4 +1,4 @@
-#include "bench/plot_svg.h"
+#include "experiments/plot_svg.h"
 
 #include <algorithm>
 #include <cmath>

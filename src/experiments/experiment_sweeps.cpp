@@ -1,9 +1,9 @@
 // Figures 7 and 8: the speed-up of rtt over the 4-wide packets (and, beside it, over the widest
 // packets) as antialiasing, then resolution, grows. Both are one sweep over image
 // configurations; tables and an SVG plot each.
-#include "bench/experiment_common.h"
-#include "bench/paper_data.h"
-#include "bench/plot_svg.h"
+#include "experiments/experiment_common.h"
+#include "experiments/paper_data.h"
+#include "experiments/plot_svg.h"
 
 namespace rtt::bench {
 

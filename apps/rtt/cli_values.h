@@ -1,11 +1,12 @@
-// Parsers of the small text values the command line takes (--light x,y,z, --size WxH). They
-// live in the library, beside parse_camera (camera.h), so the fuzz targets and tests reach
-// exactly the code the program runs.
+// Parsers of the small text values the command line takes (--camera, --light x,y,z, --size WxH).
+// Not part of the library: they build the internal target rtt_cli_values, which the program,
+// its tests and the fuzz targets link, so all three reach exactly the code the program runs.
 #pragma once
 
 #include <string>
 
 #include "rtt/math.h"
+#include "rtt/scene.h"
 
 namespace rtt {
 
@@ -18,5 +19,8 @@ Vec3f parse_vec3(const std::string& text, const std::string& what);
 /// RenderOptions::validate's business. Throws rtt::Error on malformed text or a number beyond
 /// int range.
 void parse_size(const std::string& text, int& width, int& height);
+
+/// Parses "px,py,pz,tx,ty,tz,ux,uy,uz,fovy"; throws rtt::Error on malformed text.
+Camera parse_camera(const std::string& text);
 
 }  // namespace rtt

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "bench/machine_info.h"
-#include "bench/measure.h"
+#include "experiments/machine_info.h"
+#include "experiments/measure.h"
 
 namespace rtt::bench {
 

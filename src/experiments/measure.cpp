@@ -1,4 +1,4 @@
-#include "bench/measure.h"
+#include "experiments/measure.h"
 
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/combinable.h>

@@ -6,7 +6,7 @@
 
 #include <algorithm>
 
-#include "bench/experiment_common.h"
+#include "experiments/experiment_common.h"
 #include "trace/trace_embree.h"
 
 namespace rtt::bench {

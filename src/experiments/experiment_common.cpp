@@ -1,4 +1,4 @@
-#include "bench/experiment_common.h"
+#include "experiments/experiment_common.h"
 
 #include <filesystem>
 

@@ -1,7 +1,7 @@
 // The comparison `rtt` prints after its default render: RTT against the paper's baseline on the
 // same rays, small enough to take a few seconds.
-#include "bench/experiment_common.h"
-#include "bench/paper_data.h"
+#include "experiments/experiment_common.h"
+#include "experiments/paper_data.h"
 
 namespace rtt::bench {
 

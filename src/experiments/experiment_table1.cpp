@@ -2,8 +2,8 @@
 #include <algorithm>
 #include <functional>
 
-#include "bench/experiment_common.h"
-#include "bench/paper_data.h"
+#include "experiments/experiment_common.h"
+#include "experiments/paper_data.h"
 
 namespace rtt::bench {
 

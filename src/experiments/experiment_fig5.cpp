@@ -1,7 +1,7 @@
 // Figure 5: the office scene and where RTT answered its rays, written by the renderer itself
 // (RenderOptions::primary_map and shadow_map_light, the maps behind `rtt render
 // --rtt-map-primary / --rtt-map-shadow`).
-#include "bench/experiment_common.h"
+#include "experiments/experiment_common.h"
 #include "rtt/io.h"
 #include "rtt/render.h"
 

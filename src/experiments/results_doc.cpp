@@ -1,8 +1,8 @@
-#include "bench/results_doc.h"
+#include "experiments/results_doc.h"
 
 #include <filesystem>
 
-#include "bench/experiment_common.h"
+#include "experiments/experiment_common.h"
 
 namespace rtt::bench {
 

@@ -1,4 +1,4 @@
-#include "bench/machine_info.h"
+#include "experiments/machine_info.h"
 
 #include <cstdio>
 #include <ctime>

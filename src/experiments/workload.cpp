@@ -1,4 +1,4 @@
-#include "bench/workload.h"
+#include "experiments/workload.h"
 
 #include <immintrin.h>
 

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "bench/experiments.h"
+#include "experiments/experiments.h"
 
 namespace rtt::bench::detail {
 

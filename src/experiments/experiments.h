@@ -21,9 +21,9 @@
 #include <string>
 #include <vector>
 
-#include "bench/measure.h"
-#include "bench/report.h"
-#include "bench/workload.h"
+#include "experiments/measure.h"
+#include "experiments/report.h"
+#include "experiments/workload.h"
 
 namespace rtt::bench {
 

@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "bench/workload.h"
+#include "experiments/workload.h"
 #include "rtt/tracer.h"
 
 namespace rtt::bench {

@@ -1,4 +1,4 @@
-#include "bench/report.h"
+#include "experiments/report.h"
 
 #include <algorithm>
 #include <cinttypes>
