@@ -18,7 +18,9 @@ namespace rtt {
 namespace {
 
 void add_quad(Scene& s, Vec3f a, Vec3f b, Vec3f c, Vec3f d, uint32_t material) {
-    s.add_mesh({a, b, c, d}, {{0, 1, 2}, {0, 2, 3}}, material);
+    const Vec3f v[] = {a, b, c, d};
+    const TriangleIndices t[] = {{0, 1, 2}, {0, 2, 3}};
+    s.add_mesh(v, t, material);
 }
 
 void add_box(Scene& s, Vec3f lo, Vec3f hi, uint32_t material) {
@@ -26,7 +28,7 @@ void add_box(Scene& s, Vec3f lo, Vec3f hi, uint32_t material) {
     for (int i = 0; i < 8; ++i)
         v.push_back({i & 4 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 1 ? hi.z : lo.z});
     s.add_mesh(v,
-               {{0, 1, 3},
+               std::vector<TriangleIndices>{{0, 1, 3},
                 {0, 3, 2},
                 {4, 6, 7},
                 {4, 7, 5},

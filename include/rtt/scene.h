@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -58,10 +59,18 @@ struct Scene {
 
     /// Adds a material and returns its index.
     uint32_t add_material(const Material& m);
-    /// Appends a mesh; its triangles get the next indices, in the given order. `normals` is
-    /// empty or one per vertex (a scene mixing both gets geometric normals where missing).
-    void add_mesh(const std::vector<Vec3f>& vertices, const std::vector<TriangleIndices>& triangles,
-                  uint32_t material, const std::vector<Vec3f>& normals = {});
+    /// Appends a mesh (the arrays are copied); its triangles get the next indices, in the given
+    /// order, and their vertex indices are relative to `vertices`. `normals` is empty or one
+    /// per vertex (a scene mixing both gets geometric normals where missing). Throws
+    /// rtt::Error when the scene would not fit in memory; validate() checks the rest.
+    void add_mesh(std::span<const Vec3f> vertices, std::span<const TriangleIndices> triangles,
+                  uint32_t material, std::span<const Vec3f> normals = {});
+
+    /// A scene of one mesh from arrays in memory, no file involved: a grey material, no lights,
+    /// no camera. Validated: throws rtt::Error for no triangles, an index out of range or a NaN
+    /// or infinite coordinate.
+    static Scene from_mesh(std::span<const Vec3f> vertices, std::span<const TriangleIndices> triangles,
+                           std::string name = "mesh");
 };
 
 /// Throws rtt::Error when the scene cannot be rendered: no triangles, indices out of range,

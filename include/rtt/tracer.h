@@ -88,6 +88,22 @@ public:
                           std::span<SampleAnswer> answers = {}) const = 0;
 };
 
+/// Closest hits of arbitrary rays (any origins, directions and [tmin, tmax]): hits[i] for
+/// rays[i]. Without a tile shape every tracer traces them as packets of consecutive rays (RTT
+/// falls back to its packets), so rays that are neighbours in the array should be neighbours in
+/// space. Runs on the calling thread's oneTBB arena (limit it with tbb::global_control or a
+/// tbb::task_arena); the answers do not depend on the thread count. Throws rtt::Error when the
+/// spans differ in size or a ray has a NaN or infinite value, a zero direction or tmin > tmax.
+void intersect_rays(const Tracer& tracer, std::span<const Ray> rays, std::span<Hit> hits,
+                    TraceStats* stats = nullptr);
+
+/// Visibility along arbitrary rays: visible[i] = 1 when no triangle meets rays[i] for t in
+/// [tmin, tmax], else 0. The same rays, threads and errors as intersect_rays (it answers with
+/// the closest hit, which is exact, not an any-hit shortcut). For a shadow segment from a light
+/// L to a point p, pass shadow_ray(L, p): the answers then equal Tracer::occluded's.
+void visible_rays(const Tracer& tracer, std::span<const Ray> rays, std::span<uint8_t> visible,
+                  TraceStats* stats = nullptr);
+
 /// Names accepted by make_tracer on this build ("ray", "packet", "rtt", ...).
 std::vector<std::string> tracer_kinds();
 

@@ -1,5 +1,6 @@
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "rtt/error.h"
 #include "rtt/memory_budget.h"
@@ -25,8 +26,8 @@ uint32_t Scene::add_material(const Material& m) {
     return uint32_t(materials.size() - 1);
 }
 
-void Scene::add_mesh(const std::vector<Vec3f>& verts, const std::vector<TriangleIndices>& tris,
-                     uint32_t material, const std::vector<Vec3f>& mesh_normals) {
+void Scene::add_mesh(std::span<const Vec3f> verts, std::span<const TriangleIndices> tris,
+                     uint32_t material, std::span<const Vec3f> mesh_normals) {
     // Instancing lets a small file ask for any number of triangles: refuse before growing.
     require_memory(scene_memory_bytes(vertices.size() + verts.size(), triangles.size() + tris.size()),
                    "a scene of " + std::to_string(triangles.size() + tris.size()) + " triangles");
@@ -46,6 +47,15 @@ void Scene::add_mesh(const std::vector<Vec3f>& verts, const std::vector<Triangle
         triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
         triangle_material.push_back(material);
     }
+}
+
+Scene Scene::from_mesh(std::span<const Vec3f> verts, std::span<const TriangleIndices> tris,
+                       std::string name) {
+    Scene scene;
+    scene.name = std::move(name);
+    scene.add_mesh(verts, tris, scene.add_material(Material{}));
+    validate(scene);
+    return scene;
 }
 
 void validate(const Scene& scene) {

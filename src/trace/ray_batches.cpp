@@ -1,0 +1,71 @@
+// Arbitrary rays through the tile interface: chunks of consecutive rays become one-row tiles
+// without a shaft, traced in parallel.
+#include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <string>
+
+#include "rtt/error.h"
+#include "rtt/tracer.h"
+
+namespace rtt {
+namespace {
+
+/// Rays per tile: a multiple of every packet width, large enough to hide the call, small enough
+/// to spread over threads.
+constexpr size_t chunk_rays = 1024;
+
+void check_rays(std::span<const Ray> rays, size_t outputs, const char* output) {
+    if (outputs != rays.size())
+        throw Error(std::string(output) + " holds " + std::to_string(outputs) + " entries for " +
+                    std::to_string(rays.size()) + " rays");
+    for (size_t i = 0; i < rays.size(); ++i) {
+        const Ray& r = rays[i];
+        const std::string which = "ray " + std::to_string(i);
+        if (!is_finite(r.org) || !is_finite(r.dir))
+            throw Error(which + " has a NaN or infinite origin or direction");
+        if (r.dir == Vec3f{0.f}) throw Error(which + " has a zero direction");
+        if (std::isnan(r.tmin) || std::isnan(r.tmax) || !(r.tmin <= r.tmax))
+            throw Error(which + " has tmin > tmax or a NaN bound");
+    }
+}
+
+/// Calls trace(tile, first) for every chunk of `rays` in parallel and sums the statistics.
+template <typename Trace>
+void for_each_chunk(std::span<const Ray> rays, TraceStats* stats, const Trace& trace) {
+    tbb::combinable<TraceStats> partial;
+    const size_t chunks = (rays.size() + chunk_rays - 1) / chunk_rays;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t c = r.begin(); c != r.end(); ++c) {
+            const size_t first = c * chunk_rays;
+            const size_t n = std::min(chunk_rays, rays.size() - first);
+            const RayTile tile{int(n), 1, rays.subspan(first, n), false};
+            trace(tile, first, stats ? &partial.local() : nullptr);
+        }
+    });
+    if (stats) partial.combine_each([&](const TraceStats& s) { *stats += s; });
+}
+
+}  // namespace
+
+void intersect_rays(const Tracer& tracer, std::span<const Ray> rays, std::span<Hit> hits,
+                    TraceStats* stats) {
+    check_rays(rays, hits.size(), "hits");
+    for_each_chunk(rays, stats, [&](const RayTile& tile, size_t first, TraceStats* st) {
+        tracer.intersect(tile, hits.subspan(first, tile.rays.size()), st);
+    });
+}
+
+void visible_rays(const Tracer& tracer, std::span<const Ray> rays, std::span<uint8_t> visible,
+                  TraceStats* stats) {
+    check_rays(rays, visible.size(), "visible");
+    for_each_chunk(rays, stats, [&](const RayTile& tile, size_t first, TraceStats* st) {
+        Hit hits[chunk_rays];
+        tracer.intersect(tile, std::span<Hit>(hits, tile.rays.size()), st);
+        for (size_t i = 0; i < tile.rays.size(); ++i) visible[first + i] = hits[i].valid() ? 0 : 1;
+    });
+}
+
+}  // namespace rtt

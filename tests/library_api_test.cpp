@@ -1,0 +1,148 @@
+// The library's entry points for code that is not the renderer: scenes from arrays, arbitrary
+// ray batches (intersect_rays, visible_rays) on every tracer kind, and their errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "agreement.h"
+#include "geom/triangle.h"
+#include "rtt/error.h"
+#include "rtt/kdtree.h"
+#include "rtt/tracer.h"
+#include "triangle_soup.h"
+
+namespace rtt {
+namespace {
+
+/// Rays from random points around `box` towards random points inside it, with random
+/// [tmin, tmax] (a third unbounded): misses, grazing rays and rays cut short all occur.
+std::vector<Ray> random_rays(const Bbox3f& box, size_t n, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    const Vec3f d = box.diagonal();
+    const auto in_box = [&](float grow) {
+        return box.lo - d * grow + Vec3f{u(rng), u(rng), u(rng)} * d * (1.f + 2.f * grow);
+    };
+    std::vector<Ray> rays(n);
+    for (size_t i = 0; i < n; ++i) {
+        const Vec3f org = in_box(0.5f);
+        Vec3f dir = in_box(0.f) - org;
+        if (dir == Vec3f{0.f}) dir = {1.f, 0.f, 0.f};
+        const float tmin = u(rng) < 0.5f ? 0.f : 0.3f * u(rng);
+        const float tmax = i % 3 == 0 ? pos_inf : tmin + 1.2f * u(rng);
+        rays[i] = Ray{org, dir, tmin, tmax};
+    }
+    return rays;
+}
+
+Scene test_scene() {
+    test::Tris tris;
+    test::add_box(tris, {-1, -1, -1}, {1, 1, 1}, 6);
+    test::add_sphere(tris, {0.2f, 0.1f, 0.f}, 0.6f, 24, 12);
+    test::add_grid(tris, {-2, -1, -2}, {4, 0, 0}, {0, 0, 4}, 9, 9);
+    return test::scene_of(tris);
+}
+
+TEST(LibraryApi, IntersectRaysAgreesWithBruteForceOnEveryKind) {
+    const Scene scene = test_scene();
+    const KdTree tree = build_kdtree(scene);
+    // Not a multiple of any packet width or of the batch chunk.
+    const std::vector<Ray> rays = random_rays(scene.bounds(), 3001, 7);
+    std::vector<Hit> expected(rays.size());
+    intersect_rays(*make_tracer("brute", scene, tree), rays, expected);
+    size_t hits = 0;
+    for (const Hit& h : expected) hits += h.valid();
+    ASSERT_GT(hits, rays.size() / 4);
+    ASSERT_LT(hits, rays.size());
+    for (const std::string& kind : tracer_kinds()) {
+        if (differential::tie_breaks_differ(kind)) continue;
+        std::vector<Hit> got(rays.size());
+        TraceStats stats;
+        intersect_rays(*make_tracer(kind, scene, tree), rays, got, &stats);
+        size_t mismatches = 0;
+        for (size_t i = 0; i < rays.size(); ++i) mismatches += !(got[i] == expected[i]);
+        EXPECT_EQ(mismatches, 0u) << kind;
+        EXPECT_EQ(stats.rays, rays.size()) << kind;
+    }
+}
+
+TEST(LibraryApi, VisibleRaysEqualsOccludedSegments) {
+    const Scene scene = test_scene();
+    const KdTree tree = build_kdtree(scene);
+    const Vec3f light{0.3f, 3.f, 0.5f};
+    // Hit points of random rays, as the renderer's shadow tiles hold them.
+    std::vector<Ray> probes = random_rays(scene.bounds(), 2000, 11);
+    std::vector<Hit> probe_hits(probes.size());
+    for (Ray& r : probes) r.tmin = 0.f, r.tmax = pos_inf;
+    const auto ray_tracer = make_tracer("ray", scene, tree);
+    intersect_rays(*ray_tracer, probes, probe_hits);
+    std::vector<Vec3f> points;
+    std::vector<uint32_t> tris;
+    for (size_t i = 0; i < probes.size(); ++i)
+        if (probe_hits[i].valid()) {
+            points.push_back(probes[i].org + probes[i].dir * probe_hits[i].t);
+            tris.push_back(probe_hits[i].tri);
+        }
+    ASSERT_GT(points.size(), 200u);
+    std::vector<Ray> segments;
+    for (const Vec3f& p : points) segments.push_back(shadow_ray(light, p));
+    const std::vector<uint8_t> active(points.size(), 1);
+    const SegmentTile tile{int(points.size()), 1, light, points, tris, active, false};
+    for (const std::string& kind : tracer_kinds()) {
+        if (differential::tie_breaks_differ(kind)) continue;
+        const auto tracer = make_tracer(kind, scene, tree);
+        std::vector<uint8_t> expected(points.size()), got(points.size());
+        tracer->occluded(tile, expected);
+        visible_rays(*tracer, segments, got);
+        size_t mismatches = 0, visible = 0;
+        for (size_t i = 0; i < points.size(); ++i) {
+            mismatches += expected[i] != got[i];
+            visible += got[i];
+        }
+        EXPECT_EQ(mismatches, 0u) << kind;
+        EXPECT_GT(visible, 0u) << kind;
+        EXPECT_LT(visible, points.size()) << kind;
+    }
+}
+
+TEST(LibraryApi, RayBatchesRefuseBadInput) {
+    const Scene scene = test_scene();
+    const KdTree tree = build_kdtree(scene);
+    const auto tracer = make_tracer("packet", scene, tree);
+    std::vector<Hit> hits(2);
+    std::vector<uint8_t> visible(2);
+    const Ray good{{0, 0, 5}, {0, 0, -1}, 0.f, pos_inf};
+    const auto refused = [&](Ray bad) {
+        const std::vector<Ray> rays = {good, bad};
+        bool intersect_threw = false, visible_threw = false;
+        try { intersect_rays(*tracer, rays, hits); } catch (const Error&) { intersect_threw = true; }
+        try { visible_rays(*tracer, rays, visible); } catch (const Error&) { visible_threw = true; }
+        return intersect_threw && visible_threw;
+    };
+    EXPECT_TRUE(refused({{0, 0, 5}, {0, 0, 0}, 0.f, pos_inf}));
+    EXPECT_TRUE(refused({{0, NAN, 5}, {0, 0, -1}, 0.f, pos_inf}));
+    EXPECT_TRUE(refused({{0, 0, 5}, {0, pos_inf, -1}, 0.f, pos_inf}));
+    EXPECT_TRUE(refused({{0, 0, 5}, {0, 0, -1}, 2.f, 1.f}));
+    EXPECT_TRUE(refused({{0, 0, 5}, {0, 0, -1}, NAN, 1.f}));
+    EXPECT_FALSE(refused(good));
+    const std::vector<Ray> three(3, good);
+    EXPECT_THROW(intersect_rays(*tracer, three, hits), Error);
+    EXPECT_THROW(visible_rays(*tracer, three, visible), Error);
+    intersect_rays(*tracer, {}, std::span<Hit>{});  // an empty batch is fine
+}
+
+TEST(LibraryApi, SceneFromMeshIsValidated) {
+    const std::vector<Vec3f> v = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    const Scene ok = Scene::from_mesh(v, std::vector<TriangleIndices>{{0, 1, 2}}, "tri");
+    EXPECT_EQ(ok.triangle_count(), 1u);
+    EXPECT_EQ(ok.name, "tri");
+    EXPECT_THROW(Scene::from_mesh(v, {}), Error);
+    EXPECT_THROW(Scene::from_mesh(v, std::vector<TriangleIndices>{{0, 1, 3}}), Error);
+    const std::vector<Vec3f> nan = {{0, 0, 0}, {1, NAN, 0}, {0, 1, 0}};
+    EXPECT_THROW(Scene::from_mesh(nan, std::vector<TriangleIndices>{{0, 1, 2}}), Error);
+}
+
+}  // namespace
+}  // namespace rtt
