@@ -27,7 +27,7 @@
 //     parameter is unchanged: E' + t d' is the mirror image of org + t d), and
 //     tmin = t_hit * (1 + delta). A per-tile constant factor keeps the starting points on one
 //     plane (the mirror plane scaled about E' by 1 + delta: the shaft starts at a plane, as
-//     ALGORITHM asks). delta = max(1e-4, 32 eps (|E|max + |E'|max + t_max) / t_min) so that
+//     docs/design.md, "Primary and reflected rays"). delta = max(1e-4, 32 eps (|E|max + |E'|max + t_max) / t_min) so that
 //     rounding of E' cannot bring the mirror itself back (scenes far from the origin).
 //   - Packed: otherwise (curved mirrors, several planes, mixed tiles, a parent that is not a
 //     shaft) only the mirror samples are packed, in tile order, into a width = count,

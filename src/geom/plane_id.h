@@ -1,5 +1,6 @@
-// Plane identity of triangles, decided exactly (for RTT's shadow shafts, ALGORITHM.md: "Coplanarity
-// of shadow landings decided by plane identity, never by a distance tolerance").
+// Plane identity of triangles, decided exactly, for RTT's shadow shafts (docs/design.md, "Plane
+// identity"): coplanarity of shadow landings is decided by plane identity, never by a distance
+// tolerance.
 //
 // Two triangles get the same plane id only when both are non-degenerate and every vertex of one
 // lies exactly on the plane of the other (an exact orientation predicate on the float vertices).

@@ -6,7 +6,7 @@
 // the mirror at t_hit continues, mirrored, as M(org + t dir) = M(org) + t R(dir) for t > t_hit.
 // So every reflected ray of the tile starts at one apex E' = M(org) with direction R(dir) and
 // the same parameter t: R is linear, so directions on a planar grid stay on a planar grid and
-// the 4 corner rays still bound every inner ray (ALGORITHM, "Reflections"). The rays start just
+// the 4 corner rays still bound every inner ray (docs/design.md, "Primary and reflected rays"). The rays start just
 // beyond the mirror, at t_hit (1 + delta): those points are the mirror's points scaled about
 // E' by 1 + delta, hence again on one plane, as RTT's start test needs.
 //

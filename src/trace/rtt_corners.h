@@ -1,4 +1,4 @@
-// RTT's corner traversal (paper section 3, ALGORITHM.md steps 1-2), used by "rtt-paper" and by
+// RTT's corner traversal (paper section 3; docs/design.md, "Coverage"), used by "rtt-paper" and by
 // "rtt" at K = 1 and 2 (Lean; larger tiles walk the shaft instead, rtt_cull.h, sharing the types below): the 4 corner rays of a
 // shaft go through the kd-tree as one SSE packet, with trace_ray's semantics per lane (they are
 // answers too), and every triangle of every leaf they reach is put through the shaft's five

@@ -1,5 +1,5 @@
 // The RTT tracers: relevant triangles tracing (Dmitriev, Havran, Seidel 2004, section 3;
-// ALGORITHM.md "RTT for a tile") behind the Tracer interface. The exactness argument is in
+// docs/design.md, "RTT exactness") behind the Tracer interface. The exactness argument is in
 // docs/design.md, "RTT exactness".
 //
 // Per tile with shaft = true, "rtt":
