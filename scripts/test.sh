@@ -14,11 +14,12 @@ stage() {
 }
 
 scripts/install-deps.sh
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DRTT_WITH_PYTHON=ON
 stage "release build" cmake --build build -j"$(nproc)"
 stage "release ctest" ctest --test-dir build --output-on-failure -j"$(nproc)"
 # rtt as a package: installed into a temporary prefix, used by examples/ from a clean folder.
 stage "install and examples" scripts/examples.sh
+stage "python tests" scripts/python-tests.sh
 
 # The same suite under AddressSanitizer + UndefinedBehaviorSanitizer (gcc, -O1 -g, debug checks
 # on, Embree kept: its uninstrumented library runs fine under ASan). Tests that cannot work

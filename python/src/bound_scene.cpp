@@ -1,0 +1,126 @@
+#include "bound_scene.h"
+
+#include <tbb/blocked_range2d.h>
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <chrono>
+
+#include "rtt/camera.h"
+#include "rtt/error.h"
+
+namespace rtt::python {
+namespace {
+
+/// Runs f in an arena of `threads` threads (0 = all cores) and returns its wall seconds.
+template <typename F>
+double timed_in_arena(int threads, const F& f) {
+    if (threads < 0) throw Error("threads must be at least 0 (0 = all cores)");
+    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    const auto start = std::chrono::steady_clock::now();
+    arena.execute(f);
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+BoundScene::BoundScene(Scene scene, bool geometry_only)
+    : scene_(std::move(scene)), geometry_only_(geometry_only) {
+    validate(scene_);
+}
+
+const KdTree& BoundScene::tree() {
+    std::call_once(tree_once_, [&] { tree_ = std::make_unique<KdTree>(build_kdtree(scene_)); });
+    return *tree_;
+}
+
+Camera BoundScene::default_camera() const {
+    if (scene_.camera && !geometry_only_) return *scene_.camera;
+    return default_camera_for(scene_.bounds());
+}
+
+BoundTracer::BoundTracer(std::shared_ptr<BoundScene> scene, const std::string& kind)
+    : scene_(std::move(scene)), kind_(kind), tracer_(make_tracer(kind, scene_->scene(), scene_->tree())) {}
+
+void BoundTracer::record(const TraceStats& stats, double seconds) {
+    std::lock_guard lock(stats_mutex_);
+    last_ = CallStats{stats, seconds};
+}
+
+CallStats BoundTracer::last_stats() const {
+    std::lock_guard lock(stats_mutex_);
+    return last_;
+}
+
+void BoundTracer::intersect(std::span<const Ray> rays, std::span<Hit> hits, int threads) {
+    TraceStats stats;
+    const double s = timed_in_arena(threads, [&] { intersect_rays(*tracer_, rays, hits, &stats); });
+    record(stats, s);
+}
+
+void BoundTracer::visible(std::span<const Ray> rays, std::span<uint8_t> out, int threads) {
+    TraceStats stats;
+    const double s = timed_in_arena(threads, [&] { visible_rays(*tracer_, rays, out, &stats); });
+    record(stats, s);
+}
+
+void BoundTracer::camera_hits(const Camera& camera, int width, int height, int aa,
+                              std::span<Hit> hits, int threads) {
+    RenderOptions limits;
+    limits.width = width;
+    limits.height = height;
+    limits.aa = aa;
+    limits.validate(0);
+    const CameraRays rays(camera, width, height, aa);
+    const int side = 4 * aa;
+    const size_t row = size_t(width) * size_t(aa);
+    const int tiles_x = (width + 3) / 4, tiles_y = (height + 3) / 4;
+    tbb::combinable<TraceStats> partial;
+    const double s = timed_in_arena(threads, [&] {
+        tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 0, tiles_x), [&](const auto& r) {
+            std::vector<Ray> tile(size_t(side) * size_t(side));
+            std::vector<Hit> tile_hits(tile.size());
+            for (int ty = r.rows().begin(); ty != r.rows().end(); ++ty)
+                for (int tx = r.cols().begin(); tx != r.cols().end(); ++tx) {
+                    rays.tile_rays(tx, ty, tile);
+                    tracer_->intersect(RayTile{side, side, tile, true}, tile_hits, &partial.local());
+                    // Sample (sc, sr) of the tile is grid sample (4 tx K + sc, 4 ty K + sr);
+                    // padding beyond the image is dropped.
+                    for (int sr = 0; sr < side; ++sr) {
+                        const int gy = 4 * ty * aa + sr;
+                        if (gy >= height * aa) break;
+                        for (int sc = 0; sc < side; ++sc) {
+                            const int gx = 4 * tx * aa + sc;
+                            if (gx >= width * aa) break;
+                            hits[size_t(gy) * row + size_t(gx)] = tile_hits[size_t(sr * side + sc)];
+                        }
+                    }
+                }
+        });
+    });
+    TraceStats total;
+    partial.combine_each([&](const TraceStats& t) { total += t; });
+    record(total, s);
+}
+
+RenderResult render_like_cli(const BoundScene& bound, const Tracer& tracer,
+                             const std::optional<Camera>& camera,
+                             const std::optional<std::vector<Vec3f>>& lights, RenderOptions options) {
+    Scene scene = bound.scene();  // lights change per call; geometry is the tracer's
+    const Bbox3f bounds = scene.bounds();
+    options.camera = camera ? *camera : bound.default_camera();
+    if (lights && !lights->empty()) {
+        if (lights->size() > max_lights)
+            throw Error(std::to_string(lights->size()) + " lights given; at most " +
+                        std::to_string(max_lights) + " are supported");
+        scene.lights.clear();
+        for (const Vec3f& p : *lights) scene.lights.push_back(make_point_light(p, bounds, lights->size()));
+    } else if (scene.lights.empty()) {
+        scene.lights.push_back(make_point_light(options.camera.position, bounds, 1));
+    }
+    options.validate(scene.lights.size());
+    return render(scene, tracer, options);
+}
+
+}  // namespace rtt::python

@@ -1,0 +1,78 @@
+// The objects behind rtt.Scene and rtt.Tracer: a scene with its kd-tree built once on first
+// need (under a lock, so Python threads may share the scene), and tracers over it.
+#pragma once
+
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rtt/kdtree.h"
+#include "rtt/render.h"
+#include "rtt/scene.h"
+#include "rtt/tracer.h"
+
+namespace rtt::python {
+
+class BoundScene {
+public:
+    /// `geometry_only`: loaded like `rtt render --mesh` (one grey material, no lights, no
+    /// camera), so renders of it match the command line's.
+    BoundScene(Scene scene, bool geometry_only);
+
+    const Scene& scene() const { return scene_; }
+    bool geometry_only() const { return geometry_only_; }
+    /// The kd-tree, built on the first call (thread-safe).
+    const KdTree& tree();
+    /// The camera a render uses when none is given: the scene's, else a diagonal view.
+    Camera default_camera() const;
+
+private:
+    Scene scene_;
+    bool geometry_only_;
+    std::once_flag tree_once_;
+    std::unique_ptr<KdTree> tree_;
+};
+
+/// Statistics of the last call on a tracer (any thread's).
+struct CallStats {
+    TraceStats trace;
+    double seconds = 0;
+};
+
+class BoundTracer {
+public:
+    BoundTracer(std::shared_ptr<BoundScene> scene, const std::string& kind);
+
+    const std::string& kind() const { return kind_; }
+    const Tracer& tracer() const { return *tracer_; }
+    const std::shared_ptr<BoundScene>& scene() const { return scene_; }
+
+    /// Arbitrary rays: closest hits, `threads` = 0 for all cores.
+    void intersect(std::span<const Ray> rays, std::span<Hit> hits, int threads);
+    void visible(std::span<const Ray> rays, std::span<uint8_t> visible, int threads);
+    /// Every primary sample of a width x height image with aa x aa samples, traced as the
+    /// renderer traces it (4x4-pixel shaft tiles); hits in row-major (H*aa) x (W*aa) order.
+    void camera_hits(const Camera& camera, int width, int height, int aa, std::span<Hit> hits,
+                     int threads);
+
+    CallStats last_stats() const;
+
+private:
+    void record(const TraceStats& stats, double seconds);
+
+    std::shared_ptr<BoundScene> scene_;
+    std::string kind_;
+    std::unique_ptr<Tracer> tracer_;
+    mutable std::mutex stats_mutex_;
+    CallStats last_;
+};
+
+/// What `rtt render` does with a scene, camera and lights, as one call: the lights given
+/// replace the scene's (`make_point_light`), a scene without lights is lit from the eye.
+RenderResult render_like_cli(const BoundScene& scene, const Tracer& tracer,
+                             const std::optional<Camera>& camera,
+                             const std::optional<std::vector<Vec3f>>& lights, RenderOptions options);
+
+}  // namespace rtt::python
