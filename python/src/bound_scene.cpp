@@ -66,7 +66,7 @@ void BoundTracer::visible(std::span<const Ray> rays, std::span<uint8_t> out, int
 }
 
 void BoundTracer::camera_hits(const Camera& camera, int width, int height, int aa,
-                              std::span<Hit> hits, int threads) {
+                              std::span<Hit> hits, std::span<SampleAnswer> answers, int threads) {
     RenderOptions limits;
     limits.width = width;
     limits.height = height;
@@ -81,10 +81,12 @@ void BoundTracer::camera_hits(const Camera& camera, int width, int height, int a
         tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 0, tiles_x), [&](const auto& r) {
             std::vector<Ray> tile(size_t(side) * size_t(side));
             std::vector<Hit> tile_hits(tile.size());
+            std::vector<SampleAnswer> tile_answers(answers.empty() ? 0 : tile.size());
             for (int ty = r.rows().begin(); ty != r.rows().end(); ++ty)
                 for (int tx = r.cols().begin(); tx != r.cols().end(); ++tx) {
                     rays.tile_rays(tx, ty, tile);
-                    tracer_->intersect(RayTile{side, side, tile, true}, tile_hits, &partial.local());
+                    tracer_->intersect(RayTile{side, side, tile, true}, tile_hits, &partial.local(),
+                                       tile_answers);
                     // Sample (sc, sr) of the tile is grid sample (4 tx K + sc, 4 ty K + sr);
                     // padding beyond the image is dropped.
                     for (int sr = 0; sr < side; ++sr) {
@@ -93,7 +95,9 @@ void BoundTracer::camera_hits(const Camera& camera, int width, int height, int a
                         for (int sc = 0; sc < side; ++sc) {
                             const int gx = 4 * tx * aa + sc;
                             if (gx >= width * aa) break;
-                            hits[size_t(gy) * row + size_t(gx)] = tile_hits[size_t(sr * side + sc)];
+                            const size_t at = size_t(gy) * row + size_t(gx), in = size_t(sr * side + sc);
+                            hits[at] = tile_hits[in];
+                            if (!answers.empty()) answers[at] = tile_answers[in];
                         }
                     }
                 }

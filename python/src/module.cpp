@@ -184,10 +184,11 @@ PYBIND11_MODULE(_rtt, m) {
             "True where no triangle meets the ray for t in [tmin, tmax].")
         .def("camera_hits", [](BoundTracer& t, const py::object& camera, int width, int height, int aa,
                                const py::object& position, const py::object& target, const py::object& up,
-                               const py::object& fovy, int threads) {
+                               const py::object& fovy, int threads, bool with_answers) {
             const Camera cam = to_camera(camera, position, target, up, fovy).value_or(t.scene()->default_camera());
             if (width < 1 || height < 1 || aa < 1) throw py::value_error("width, height and aa must be at least 1");
             std::vector<Hit> hits;
+            std::vector<SampleAnswer> answers;
             {
                 py::gil_scoped_release unlocked;
                 values_checked([&] {
@@ -195,16 +196,24 @@ PYBIND11_MODULE(_rtt, m) {
                     limits.width = width, limits.height = height, limits.aa = aa;
                     limits.validate(0);
                     hits.resize(size_t(width) * size_t(height) * size_t(aa) * size_t(aa));
-                    t.camera_hits(cam, width, height, aa, hits, threads);
+                    if (with_answers) answers.resize(hits.size());
+                    t.camera_hits(cam, width, height, aa, hits, answers, threads);
                     return 0;
                 });
             }
-            return hit_arrays(hits, {py::ssize_t(height) * aa, py::ssize_t(width) * aa});
+            const std::vector<py::ssize_t> shape = {py::ssize_t(height) * aa, py::ssize_t(width) * aa};
+            py::tuple result = hit_arrays(hits, shape);
+            if (!with_answers) return result;
+            py::array_t<uint8_t> how(shape);
+            for (size_t i = 0; i < answers.size(); ++i) how.mutable_data()[i] = uint8_t(answers[i]);
+            return py::make_tuple(result[0], result[1], how);
         }, "camera"_a = py::none(), "width"_a = 640, "height"_a = 480, "aa"_a = 1, py::kw_only(),
             "position"_a = py::none(), "target"_a = py::none(), "up"_a = py::none(), "fovy"_a = py::none(),
-            "threads"_a = 0,
+            "threads"_a = 0, "answers"_a = false,
             "Every primary sample of the image, traced as 4x4-pixel shaft tiles: (t, tri) arrays of "
-            "shape (H*aa, W*aa), sample (i, j) of pixel (x, y) at [y*aa + j, x*aa + i].")
+            "shape (H*aa, W*aa), sample (i, j) of pixel (x, y) at [y*aa + j, x*aa + i]. answers=True "
+            "adds a uint8 array of how each sample was answered: 0 traced, 1 RTT with an empty "
+            "relevant list, 2 RTT from a list (the paper's Figure 5b).")
         .def_property_readonly("last_stats", [](const BoundTracer& t) { return stats_dict(t.last_stats()); })
         .def("__repr__", [](const BoundTracer& t) { return "<rtt.Tracer '" + t.kind() + "'>"; });
 

@@ -184,6 +184,10 @@ def test_camera_hits_and_visible_match_cli_buffers(tmp_path, rtt_cli, aa):
     assert stats["rays"] == stats["traced"] + stats["answered"]
     if aa > 1:
         assert stats["rtt_tiles"] > 0 and stats["answered"] > 0
+    _, tri_again, how = tracer.camera_hits(CAMERA, w, h, aa=aa, answers=True)
+    np.testing.assert_array_equal(tri_again, tri)
+    assert how.dtype == np.uint8 and set(np.unique(how)) <= {0, 1, 2}
+    assert (how > 0).sum() <= tracer.last_stats["answered"]  # padding samples are not in the grid
 
     # Shadow segments from the light to each hit point p = org + t dir, as CONVENTIONS computes them.
     org, dirs = rtt.camera_rays(CAMERA, w, h, aa=aa)
