@@ -4,7 +4,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config  # gcc 12 brings libasan8 and libubsan1 (the sanitizer build)
-  libassimp-dev libtbb-dev libcli11-dev nlohmann-json3-dev libpng-dev libstb-dev
+  libassimp-dev libtbb-dev libcli11-dev nlohmann-json3-dev libpng-dev libstb-dev libopenexr-dev
   libgtest-dev libbenchmark-dev libembree-dev
   python3-dev pybind11-dev python3-numpy python3-pytest  # the Python module and its tests
   clang libclang-rt-14-dev  # scripts/fuzz.sh: libFuzzer and the sanitizer runtimes for clang 14

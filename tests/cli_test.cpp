@@ -9,8 +9,9 @@
 #include <fstream>
 #include <sstream>
 
-#include "geom/triangle.h"
+#include "cli_run.h"
 #include "cli_values.h"
+#include "geom/triangle.h"
 #include "rtt/camera.h"
 #include "rtt/io.h"
 #include "rtt/tracer.h"
@@ -20,53 +21,12 @@ namespace rtt {
 namespace {
 
 namespace fs = std::filesystem;
+using test::read_text;
+using test::run_cli;
+using test::RunResult;
+using test::TempDir;
 
 const std::string mesh_path = std::string(RTT_TEST_DATA_DIR) + "/render_mesh.obj";
-
-struct TempDir {
-    fs::path path;
-    explicit TempDir(const std::string& name)
-        : path(fs::temp_directory_path() /
-               ("rtt_cli_test_" + std::to_string(getpid()) + "_" + name)) {
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-    std::string file(const std::string& name) const { return (path / name).string(); }
-    std::vector<std::string> entries() const {
-        std::vector<std::string> names;
-        for (const auto& e : fs::directory_iterator(path))
-            names.push_back(e.path().filename().string());
-        return names;
-    }
-};
-
-std::string read_text(const std::string& path) {
-    std::ifstream in(path);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
-struct RunResult {
-    int exit_code = -1;
-    std::string out, err;
-};
-
-/// Runs the CLI with `args` (already shell-quoted where needed) in `dir`.
-RunResult run_cli(const TempDir& dir, const std::string& args) {
-    const std::string out = dir.file("stdout.txt"), err = dir.file("stderr.txt");
-    const std::string cmd = "cd '" + dir.path.string() + "' && '" + std::string(RTT_CLI_PATH) +
-                            "' " + args + " >'" + out + "' 2>'" + err + "'";
-    const int status = std::system(cmd.c_str());
-    RunResult r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.out = read_text(out);
-    r.err = read_text(err);
-    fs::remove(out);
-    fs::remove(err);
-    return r;
-}
 
 /// The triangles of a triangle-and-polygon OBJ with only `v` and `f` lines, parsed here
 /// independently of the importer: faces in file order, polygons split as fans (CONVENTIONS).

@@ -3,16 +3,18 @@
 #include <charconv>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <optional>
 
+#include "cli_values.h"
 #include "commands.h"
+#include "output_set.h"
 #include "render_job.h"
 #include "rtt/camera.h"
 #include "rtt/error.h"
 #include "rtt/io.h"
 #include "rtt/kdtree.h"
-#include "cli_values.h"
 #include "rtt/render.h"
 #include "rtt/tracer.h"
 #include "stats_report.h"
@@ -26,7 +28,88 @@ std::string joined(const std::vector<std::string>& items) {
     return s;
 }
 
+/// A map (one byte per pixel) as PNG or PGM, by extension (OutputSet checked it).
+void write_grey(const std::string& path, const std::string& ext, int w, int h,
+                const std::vector<uint8_t>& map) {
+    if (ext == ".pgm")
+        write_pnm(path, w, h, 1, map);
+    else
+        write_png(path, w, h, 1, map);
+}
+
+/// -o by extension: PNG / PPM (8-bit sRGB), PFM (linear float), EXR (linear float RGB and the
+/// --aov layers: depth.Z, N.X/Y/Z, triangle.id, rtt.Y; README, "Outputs").
+void write_image(const std::string& path, const std::string& ext, const RenderJob& job,
+                 const Scene& scene, const RenderResult& r) {
+    if (ext == ".png" || ext == ".ppm") {
+        const std::vector<uint8_t> srgb = encode_srgb8(r.pixels);
+        if (ext == ".png")
+            write_png(path, r.width, r.height, 3, srgb);
+        else
+            write_pnm(path, r.width, r.height, 3, srgb);
+        return;
+    }
+    if (ext == ".pfm") return write_pfm(path, r.width, r.height, r.pixels);
+    const size_t n = r.pixels.size();
+    std::vector<float> rgb[3];
+    for (int c = 0; c < 3; ++c) {
+        rgb[c].resize(n);
+        for (size_t i = 0; i < n; ++i) rgb[c][i] = r.pixels[i][c];
+    }
+    std::vector<ExrChannel> channels = {{"R", rgb[0], {}}, {"G", rgb[1], {}}, {"B", rgb[2], {}}};
+    const auto wants = [&](const char* aov) {
+        return std::find(job.aovs.begin(), job.aovs.end(), aov) != job.aovs.end();
+    };
+    if (wants("depth")) channels.push_back({"depth.Z", r.depth, {}});
+    std::vector<float> normal[3];
+    if (wants("normal")) {
+        // Unit geometric normal of the first sample's triangle, as CONVENTIONS orders its
+        // vertices; 0 on a miss.
+        for (auto& v : normal) v.assign(n, 0.f);
+        for (size_t i = 0; i < n; ++i) {
+            if (r.first_triangle[i] == invalid_triangle) continue;
+            const TriangleIndices& t = scene.triangles[r.first_triangle[i]];
+            const Vec3f c = cross(scene.vertices[t[1]] - scene.vertices[t[0]], scene.vertices[t[2]] - scene.vertices[t[0]]);
+            const float len = length(c);
+            if (!(len > 0.f)) continue;
+            for (int k = 0; k < 3; ++k) normal[k][i] = c[k] / len;
+        }
+        channels.push_back({"N.X", normal[0], {}});
+        channels.push_back({"N.Y", normal[1], {}});
+        channels.push_back({"N.Z", normal[2], {}});
+    }
+    if (wants("triangle")) channels.push_back({"triangle.id", {}, r.first_triangle});
+    std::vector<float> answered;
+    if (wants("rtt")) {
+        answered.resize(n);
+        for (size_t i = 0; i < n; ++i) answered[i] = float(r.primary_map[i]) / 255.f;
+        channels.push_back({"rtt.Y", answered, {}});
+    }
+    write_exr(path, r.width, r.height, channels);
+}
+
 }  // namespace
+
+const std::vector<std::string>& image_extensions() {
+    static const std::vector<std::string> e = {".png", ".exr", ".pfm", ".ppm"};
+    return e;
+}
+
+const std::vector<std::string>& aov_names() {
+    static const std::vector<std::string> a = {"depth", "normal", "triangle", "rtt"};
+    return a;
+}
+
+bool has_no_output(const RenderJob& j) {
+    return j.image.empty() && j.hits.empty() && j.shadows.empty() && j.map_primary.empty() &&
+           j.map_shadow.empty() && j.stats_json.empty() && !j.stats;
+}
+
+std::string default_image_path(const SceneArgs& scene) {
+    const std::string source = scene.mesh.empty() ? scene.scene : scene.mesh;
+    const std::string stem = std::filesystem::path(source).stem().string();
+    return (stem.empty() ? std::string("render") : stem) + ".png";
+}
 
 std::string default_tracer_kind() {
     const std::vector<std::string> kinds = tracer_kinds();
@@ -60,6 +143,26 @@ RenderJobResult run_render_job(const RenderJob& job) {
     if (job.map_light < 0) throw Error("--rtt-map-light must be at least 0");
     opt.shadow_map_light = job.map_shadow.empty() ? -1 : job.map_light;
     opt.progress = !job.quiet;
+    for (const std::string& a : job.aovs)
+        if (std::find(aov_names().begin(), aov_names().end(), a) == aov_names().end())
+            throw Error("--aov: unknown output variable '" + a + "' (known: " + joined(aov_names()) + ")");
+    if (!job.aovs.empty() && extension_of(job.image) != ".exr")
+        throw Error("--aov writes EXR layers: give -o FILE.exr");
+    const auto wants = [&](const char* aov) {
+        return std::find(job.aovs.begin(), job.aovs.end(), aov) != job.aovs.end();
+    };
+    opt.pixel_hits = wants("depth") || wants("normal") || wants("triangle");
+    if (wants("rtt")) opt.primary_map = true;
+
+    // Every destination before any work: names, extensions, folders.
+    OutputSet outputs;
+    if (!job.image.empty()) outputs.add("-o", job.image, image_extensions());
+    if (!job.hits.empty()) outputs.add("--hits", job.hits);
+    if (!job.shadows.empty()) outputs.add("--shadows", job.shadows);
+    if (!job.map_primary.empty()) outputs.add("--rtt-map-primary", job.map_primary, {".png", ".pgm"});
+    if (!job.map_shadow.empty()) outputs.add("--rtt-map-shadow", job.map_shadow, {".png", ".pgm"});
+    if (!job.stats_json.empty()) outputs.add("--stats-json", job.stats_json);
+    outputs.check_writable();
     {
         // Size, K, depth and threads before loading anything; the map light once lights are known.
         RenderOptions early = opt;
@@ -99,16 +202,31 @@ RenderJobResult run_render_job(const RenderJob& job) {
     out.result = render(scene, *tracer, opt);
     const RenderResult& r = out.result;
 
-    if (!job.image.empty()) write_png(job.image, r.width, r.height, 3, encode_srgb8(r.pixels));
+    if (!job.image.empty())
+        outputs.write(job.image, [&](const std::string& tmp) {
+            write_image(tmp, extension_of(job.image), job, scene, r);
+        });
     const auto spp = uint32_t(r.aa * r.aa);
     if (!job.hits.empty())
-        write_hit_buffer(job.hits, HitBuffer{uint32_t(r.width), uint32_t(r.height), spp, r.hits});
+        outputs.write(job.hits, [&](const std::string& tmp) {
+            write_hit_buffer(tmp, HitBuffer{uint32_t(r.width), uint32_t(r.height), spp, r.hits});
+        });
     if (!job.shadows.empty())
-        write_shadow_buffer(job.shadows, ShadowBuffer{uint32_t(r.width), uint32_t(r.height), spp,
-                                                      uint32_t(scene.lights.size()), r.shadows});
-    if (!job.map_primary.empty()) write_png(job.map_primary, r.width, r.height, 1, r.primary_map);
-    if (!job.map_shadow.empty()) write_png(job.map_shadow, r.width, r.height, 1, r.shadow_map);
-    if (!job.stats_json.empty()) write_stats_json(job.stats_json, job, out);
+        outputs.write(job.shadows, [&](const std::string& tmp) {
+            write_shadow_buffer(tmp, ShadowBuffer{uint32_t(r.width), uint32_t(r.height), spp,
+                                                  uint32_t(scene.lights.size()), r.shadows});
+        });
+    if (!job.map_primary.empty())
+        outputs.write(job.map_primary, [&](const std::string& tmp) {
+            write_grey(tmp, extension_of(job.map_primary), r.width, r.height, r.primary_map);
+        });
+    if (!job.map_shadow.empty())
+        outputs.write(job.map_shadow, [&](const std::string& tmp) {
+            write_grey(tmp, extension_of(job.map_shadow), r.width, r.height, r.shadow_map);
+        });
+    if (!job.stats_json.empty())
+        outputs.write(job.stats_json, [&](const std::string& tmp) { write_stats_json(tmp, job, out); });
+    outputs.commit();
     if (job.stats) print_stats(stdout, out);
     return out;
 }
@@ -141,7 +259,13 @@ void add_render_command(CLI::App& app) {
         cmd->add_option("--threads", job->threads, "Worker threads (default: all cores)");
     cmd->add_option("--max-depth", job->max_depth, "Mirror reflection depth (0 = no reflections)")
         ->capture_default_str();
-    cmd->add_option("-o,--output", job->image, "Write the image as PNG");
+    cmd->add_option("-o,--output", job->image,
+                    "Image file, format by extension: .png (8-bit sRGB), .exr (linear float RGB and "
+                    "--aov layers), .pfm (linear float), .ppm. Without any output option: <scene>.png");
+    cmd->add_option("--aov", job->aovs,
+                    "Extra EXR layers (comma-separated): depth (t of each pixel's first sample), normal "
+                    "(its triangle's unit normal), triangle (its id), rtt (share of samples RTT answered)")
+        ->delimiter(',');
     cmd->add_option("--hits", job->hits, "Write the RTTH hit buffer (closest triangle per sample)");
     cmd->add_option("--shadows", job->shadows,
                     "Write the RTTS shadow buffer (visible lights per sample)");
@@ -159,7 +283,11 @@ void add_render_command(CLI::App& app) {
     cmd->callback([job, threads] {
         // 0 means "all cores" inside; on the command line it is a mistake.
         if (threads->count() > 0 && job->threads < 1) throw Error("--threads must be at least 1");
+        // No silent no-op: a render that asks for nothing writes the image and says where.
+        const bool defaulted = has_no_output(*job);
+        if (defaulted) job->image = default_image_path(job->scene);
         run_render_job(*job);
+        if (defaulted) std::printf("rtt: wrote %s (choose outputs with -o, --hits, --shadows, --stats)\n", job->image.c_str());
     });
 }
 

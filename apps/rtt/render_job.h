@@ -19,7 +19,8 @@ struct RenderJob {
     std::string tracer;               ///< Empty = default_tracer_kind().
     int threads = 0;                  ///< 0 = all cores.
     int max_depth = 4;
-    std::string image;        ///< -o PNG.
+    std::string image;        ///< -o: .png (8-bit sRGB), .exr (linear float + AOVs), .pfm, .ppm.
+    std::vector<std::string> aovs;  ///< --aov: depth, normal, triangle, rtt (EXR layers).
     std::string hits;         ///< RTTH output.
     std::string shadows;      ///< RTTS output.
     std::string map_primary;  ///< Figure 5b PNG.
@@ -39,12 +40,24 @@ struct RenderJobResult {
     RenderResult result;
 };
 
+/// The extensions -o accepts, and the arbitrary output variables --aov accepts.
+const std::vector<std::string>& image_extensions();
+const std::vector<std::string>& aov_names();
+
+/// True when the job asks for no output at all (no file, no statistics).
+bool has_no_output(const RenderJob& job);
+
+/// "<stem of the scene or mesh>.png" in the current folder: the image `rtt render` writes when
+/// no output is asked for.
+std::string default_image_path(const SceneArgs& scene);
+
 /// "rtt" if this build has it, else "packet", else "ray".
 std::string default_tracer_kind();
 
 /// Loads the scene, applies --camera / --light, builds the kd-tree and tracer, renders and
-/// writes every requested output (each whole or not at all). Throws rtt::Error on bad input;
-/// everything that can be checked without rendering is checked before the render starts.
+/// writes every requested output, all of them or none (OutputSet). Throws rtt::Error on bad
+/// input; everything that can be checked without rendering (options, output names, folders)
+/// is checked before the scene is loaded.
 RenderJobResult run_render_job(const RenderJob& job);
 
 }  // namespace rtt::cli

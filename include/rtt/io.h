@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "rtt/math.h"
+
 namespace rtt {
 
 /// Version written into, and required in, RTTH and RTTS headers.
@@ -52,5 +54,24 @@ ShadowBuffer read_shadow_buffer(const std::string& path);
 /// Writes an 8-bit PNG, `channels` = 1 (grey) or 3 (RGB), rows top to bottom.
 void write_png(const std::string& path, int width, int height, int channels,
                std::span<const uint8_t> pixels);
+
+/// Writes an 8-bit binary PPM (P6, RGB) or PGM (P5, `channels` = 1), rows top to bottom.
+void write_pnm(const std::string& path, int width, int height, int channels,
+               std::span<const uint8_t> pixels);
+
+/// Writes a PFM: linear float RGB, little-endian, rows stored bottom to top as the format says.
+void write_pfm(const std::string& path, int width, int height, std::span<const Vec3f> pixels);
+
+/// One channel of an EXR image: `name` ("R", "depth.Z", "N.X", ...) and one value per pixel,
+/// rows top to bottom. Float channels are stored as 32-bit floats, uint ones as 32-bit uints.
+struct ExrChannel {
+    std::string name;
+    std::span<const float> floats;      ///< Either floats ...
+    std::span<const uint32_t> uints;    ///< ... or uints, width * height values.
+};
+
+/// Writes an OpenEXR scanline image (ZIP compression) with the given channels; layers are
+/// channel-name prefixes ("depth.Z"). Whole or not at all, as write_file_atomically.
+void write_exr(const std::string& path, int width, int height, std::span<const ExrChannel> channels);
 
 }  // namespace rtt

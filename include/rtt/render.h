@@ -72,6 +72,7 @@ struct RenderOptions {
     bool shadow_buffer = false;  ///< Fill RenderResult::shadows (every hit sample, every light).
     bool primary_map = false;    ///< Fill RenderResult::primary_map (Figure 5b).
     int shadow_map_light = -1;   ///< >= 0: fill RenderResult::shadow_map for this light (Fig. 5c).
+    bool pixel_hits = false;     ///< Fill RenderResult::depth and first_triangle.
     bool progress = false;       ///< Progress bar on stderr (only when stderr is a terminal
                                  ///< and the render takes longer than about a second).
 
@@ -115,6 +116,10 @@ struct RenderResult {
     /// One grey level per pixel for one light, averaged over its active segments: 255 answered
     /// with an empty relevant list, 128 answered from a list, 0 traced (0 also: no segment).
     std::vector<uint8_t> shadow_map;
+    /// Per pixel, the hit of its first sample (i = j = 0), if asked: t (infinity on a miss) and
+    /// the triangle (invalid_triangle on a miss).
+    std::vector<float> depth;
+    std::vector<uint32_t> first_triangle;
     RenderStats stats;
 };
 

@@ -102,6 +102,11 @@ void render_tile(const TileJob& job, int tx, int ty, ThreadStats& ts) {
             }
             const size_t pixel = size_t(y) * w + x;
             out.pixels[pixel] = sum / float(spp);
+            if (opt.pixel_hits) {
+                const Hit& first = record.hits[size_t(py * k) * n + size_t(px * k)];
+                out.depth[pixel] = first.valid() ? first.t : pos_inf;
+                out.first_triangle[pixel] = first.tri;
+            }
             if (opt.primary_map) out.primary_map[pixel] = uint8_t((answered * 255 + spp / 2) / spp);
             if (opt.shadow_map_light >= 0)
                 out.shadow_map[pixel] =
@@ -131,6 +136,10 @@ RenderResult render(const Scene& scene, const Tracer& tracer, const RenderOption
     if (options.shadow_buffer) out.shadows.resize(samples);
     if (options.primary_map) out.primary_map.resize(pixels);
     if (options.shadow_map_light >= 0) out.shadow_map.resize(pixels);
+    if (options.pixel_hits) {
+        out.depth.resize(pixels);
+        out.first_triangle.resize(pixels);
+    }
 
     const int tiles_x = (options.width + 3) / 4, tiles_y = (options.height + 3) / 4;
     const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();

@@ -1,0 +1,167 @@
+// What `rtt render` writes: images chosen by extension (PNG, EXR with AOV layers, PFM, PPM),
+// every destination checked before any work, all outputs or none, and no silent no-op.
+#include <gtest/gtest.h>
+
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "cli_run.h"
+#include "rtt/error.h"
+#include "rtt/io.h"
+
+namespace rtt {
+namespace {
+
+using test::read_text;
+using test::run_cli;
+using test::TempDir;
+
+const std::string mesh_path = std::string(RTT_TEST_DATA_DIR) + "/render_mesh.obj";
+
+/// One channel of an EXR file, as floats (uint channels converted), or empty when missing.
+std::vector<float> exr_channel(const std::string& path, const char* name, int& w, int& h) {
+    Imf::InputFile file(path.c_str());
+    const Imath::Box2i box = file.header().dataWindow();
+    w = box.max.x - box.min.x + 1;
+    h = box.max.y - box.min.y + 1;
+    if (!file.header().channels().findChannel(name)) return {};
+    std::vector<float> values(size_t(w) * size_t(h));
+    Imf::FrameBuffer frame;
+    frame.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(values.data()), 4, size_t(w) * 4));
+    file.setFrameBuffer(frame);
+    file.readPixels(box.min.y, box.max.y);
+    return values;
+}
+
+TEST(Outputs, ExrRoundTripsFloatAndUintChannels) {
+    TempDir dir("exr");
+    const std::vector<float> r = {0.f, 0.5f, 1.5f, -2.f, 1e30f, pos_inf};
+    const std::vector<uint32_t> id = {0, 1, 2, 7, 1u << 24, invalid_triangle - 1};
+    const std::vector<ExrChannel> channels = {{"R", r, {}}, {"triangle.id", {}, id}};
+    write_exr(dir.file("a.exr"), 3, 2, channels);
+    int w = 0, h = 0;
+    EXPECT_EQ(exr_channel(dir.file("a.exr"), "R", w, h), r);
+    EXPECT_EQ(w, 3);
+    EXPECT_EQ(h, 2);
+    Imf::InputFile file(dir.file("a.exr").c_str());
+    std::vector<uint32_t> back(6);
+    Imf::FrameBuffer frame;
+    frame.insert("triangle.id", Imf::Slice(Imf::UINT, reinterpret_cast<char*>(back.data()), 4, 12));
+    file.setFrameBuffer(frame);
+    file.readPixels(0, 1);
+    EXPECT_EQ(back, id);
+    EXPECT_THROW(write_exr(dir.file("b.exr"), 4, 2, channels), Error);  // sizes must match
+    EXPECT_FALSE(std::filesystem::exists(dir.file("b.exr")));
+}
+
+TEST(Outputs, PfmAndPnmLayouts) {
+    TempDir dir("pfm");
+    const std::vector<Vec3f> px = {{1, 2, 3}, {4, 5, 6}};  // a 1x2 image: top row, bottom row
+    write_pfm(dir.file("a.pfm"), 1, 2, px);
+    const std::string pfm = read_text(dir.file("a.pfm"));
+    ASSERT_EQ(pfm.substr(0, 11), "PF\n1 2\n-1.0");
+    float first[3];
+    std::memcpy(first, pfm.data() + 12, sizeof first);
+    EXPECT_EQ(first[0], 4.f);  // rows bottom to top
+    write_pnm(dir.file("a.pgm"), 2, 1, 1, std::vector<uint8_t>{7, 9});
+    EXPECT_EQ(read_text(dir.file("a.pgm")), std::string("P5\n2 1\n255\n\x07\x09", 13));
+}
+
+TEST(Outputs, ExrLayersAgreeWithTheHitBuffer) {
+    TempDir dir("aov");
+    const auto r = run_cli(dir, "render --scene room --size 24x16 --aa 2 -q -o out.exr "
+                                "--aov depth,normal,triangle,rtt --hits h.rtth --tracer rtt");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    int w = 0, h = 0;
+    const std::vector<float> red = exr_channel(dir.file("out.exr"), "R", w, h);
+    const std::vector<float> depth = exr_channel(dir.file("out.exr"), "depth.Z", w, h);
+    const std::vector<float> nx = exr_channel(dir.file("out.exr"), "N.X", w, h);
+    const std::vector<float> ny = exr_channel(dir.file("out.exr"), "N.Y", w, h);
+    const std::vector<float> nz = exr_channel(dir.file("out.exr"), "N.Z", w, h);
+    const std::vector<float> answered = exr_channel(dir.file("out.exr"), "rtt.Y", w, h);
+    ASSERT_EQ(w, 24);
+    ASSERT_EQ(h, 16);
+    ASSERT_EQ(red.size(), 24u * 16u);
+    ASSERT_EQ(depth.size(), red.size());
+    ASSERT_EQ(answered.size(), red.size());
+    // triangle.id is a uint layer: read it as such.
+    Imf::InputFile file(dir.file("out.exr").c_str());
+    std::vector<uint32_t> tri(red.size());
+    Imf::FrameBuffer frame;
+    frame.insert("triangle.id", Imf::Slice(Imf::UINT, reinterpret_cast<char*>(tri.data()), 4, 24 * 4));
+    file.setFrameBuffer(frame);
+    file.readPixels(0, 15);
+    const HitBuffer hits = read_hit_buffer(dir.file("h.rtth"));
+    for (size_t p = 0; p < tri.size(); ++p) {
+        EXPECT_EQ(tri[p], hits.hits[p * 4]) << p;  // the pixel's first sample (i = j = 0)
+        if (tri[p] == invalid_triangle) {
+            EXPECT_TRUE(std::isinf(depth[p]));
+        } else {
+            EXPECT_GT(depth[p], 0.f);
+            EXPECT_NEAR(nx[p] * nx[p] + ny[p] * ny[p] + nz[p] * nz[p], 1.f, 1e-5f);
+        }
+        EXPECT_GE(answered[p], 0.f);
+        EXPECT_LE(answered[p], 1.f);
+    }
+}
+
+TEST(Outputs, EveryDestinationIsCheckedBeforeWork) {
+    TempDir dir("check");
+    struct Case {
+        const char* args;
+        const char* message;
+    } cases[] = {
+        {"-o out.png --hits /nonexistent/dir/h.rtth", "--hits: cannot write /nonexistent/dir/h.rtth: folder"},
+        {"-o out.tiff", "unknown extension '.tiff'"},
+        {"-o out.png --hits ./out.png", "is also the file of -o"},
+        {"-o out.png --rtt-map-primary m.jpg", "--rtt-map-primary"},
+        {"-o out.png --aov depth", "--aov writes EXR layers"},
+        {"-o out.exr --aov depth,colour", "unknown output variable 'colour'"},
+        {"-o out.png --hits sub", "--hits: cannot write sub: it is a folder"},
+    };
+    std::filesystem::create_directory(dir.file("sub"));
+    for (const Case& c : cases) {
+        // A scene that does not exist: the outputs must fail first, before any loading.
+        const auto r = run_cli(dir, std::string("render --mesh missing.obj --size 8x8 ") + c.args);
+        EXPECT_EQ(r.exit_code, 1) << c.args;
+        EXPECT_NE(r.err.find(c.message), std::string::npos) << c.args << ": " << r.err;
+        const auto entries = dir.entries();
+        EXPECT_EQ(std::count_if(entries.begin(), entries.end(), [](const std::string& e) { return e != "sub"; }),
+                  0)
+            << c.args;
+    }
+}
+
+TEST(Outputs, NoOutputWritesTheSceneImageAndSaysSo) {
+    TempDir dir("default");
+    const auto r = run_cli(dir, "render --mesh '" + mesh_path + "' --size 16x12 -q");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("wrote render_mesh.png"), std::string::npos) << r.out;
+    EXPECT_TRUE(std::filesystem::exists(dir.file("render_mesh.png")));
+    std::filesystem::remove(dir.file("render_mesh.png"));
+    // Statistics alone are an output: no image then.
+    const auto s = run_cli(dir, "render --mesh '" + mesh_path + "' --size 16x12 -q --stats");
+    ASSERT_EQ(s.exit_code, 0) << s.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("render_mesh.png")));
+}
+
+TEST(Outputs, FloatFormatsByExtension) {
+    TempDir dir("formats");
+    const auto r = run_cli(dir, "render --mesh '" + mesh_path + "' --size 16x12 -q -o a.pfm --rtt-map-primary m.pgm");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(read_text(dir.file("a.pfm")).substr(0, 3), "PF\n");
+    EXPECT_EQ(read_text(dir.file("m.pgm")).substr(0, 3), "P5\n");
+    const auto p = run_cli(dir, "render --mesh '" + mesh_path + "' --size 16x12 -q -o a.ppm");
+    ASSERT_EQ(p.exit_code, 0) << p.err;
+    EXPECT_EQ(read_text(dir.file("a.ppm")).size(), std::string("P6\n16 12\n255\n").size() + 16 * 12 * 3);
+}
+
+}  // namespace
+}  // namespace rtt
