@@ -233,3 +233,28 @@ TEST(Cli, BadInputGivesOneLineError) {
 
 }  // namespace
 }  // namespace rtt
+
+namespace rtt {
+namespace {
+
+TEST(Cli, ErrorsSayHowToFixThem) {
+    TempDir dir("hints");
+    const auto typo = run_cli(dir, "render --scene room --sise 8x8");
+    EXPECT_EQ(typo.exit_code, 2);
+    EXPECT_NE(typo.err.find("Did you mean --size instead of --sise?"), std::string::npos) << typo.err;
+    EXPECT_NE(typo.err.find("See 'rtt render --help'."), std::string::npos) << typo.err;
+    const auto command = run_cli(dir, "rendr --scene room");
+    EXPECT_EQ(command.exit_code, 2);
+    EXPECT_NE(command.err.find("Did you mean render instead of rendr?"), std::string::npos) << command.err;
+    const auto bench = run_cli(dir, "bench");
+    EXPECT_EQ(bench.exit_code, 2);
+    EXPECT_NE(bench.err.find("needs one of: table1, fig7"), std::string::npos) << bench.err;
+    // Far from every option: no guess, only the help.
+    const auto far = run_cli(dir, "render --scene room --zzzzzzzzzz");
+    EXPECT_EQ(far.err.find("Did you mean"), std::string::npos) << far.err;
+    EXPECT_NE(far.err.find("See 'rtt render --help'."), std::string::npos) << far.err;
+    EXPECT_TRUE(dir.entries().empty());
+}
+
+}  // namespace
+}  // namespace rtt

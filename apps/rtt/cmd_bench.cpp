@@ -121,7 +121,7 @@ void add_bench_command(CLI::App& app) {
     bench->add_flag("--quick", args->quick, "Smoke run: tiny images, 1 repetition");
     bench->add_flag("--long", args->long_run,
                     "Every experiment at the paper's / issue's exact size");
-    bench->add_option("--threads", args->threads, "Tracing threads (default 1)")
+    bench->add_option("--threads", args->threads, "Tracing threads (default 1: the paper measures one core, and ratios of tracers are steadiest on one; `rtt render` uses all cores)")
         ->capture_default_str();
     bench->add_option("--reps", args->repetitions, "Timed repetitions (default 3; 1 with --quick)");
     bench->add_option("--scenes", args->scenes, "Comma-separated built-in scenes or scene files")

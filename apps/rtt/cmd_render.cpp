@@ -256,7 +256,7 @@ void add_render_command(CLI::App& app) {
         "--tracer", job->tracer,
         "Tracer: " + joined(tracer_kinds()) + " (default: " + default_tracer_kind() + ")");
     CLI::Option* threads =
-        cmd->add_option("--threads", job->threads, "Worker threads (default: all cores)");
+        cmd->add_option("--threads", job->threads, "Worker threads (default: all cores; results do not depend on it. `rtt bench` defaults to 1 to time one core)");
     cmd->add_option("--max-depth", job->max_depth, "Mirror reflection depth (0 = no reflections)")
         ->capture_default_str();
     cmd->add_option("-o,--output", job->image,

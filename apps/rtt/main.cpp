@@ -5,6 +5,7 @@
 #include <new>
 #include <string>
 
+#include "cli_hints.h"
 #include "commands.h"
 #include "rtt/error.h"
 #include "rtt/version.h"
@@ -38,7 +39,7 @@ int main(int argc, char** argv) {
         return 0;
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-        return fail(e.what(), 2);
+        return fail(std::string(e.what()) + "." + rtt::cli::hint_for(app, e), 2);
     } catch (const rtt::Error& e) {
         return fail(e.what(), 1);
     } catch (const std::bad_alloc&) {
