@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <vector>
 
 #include "cli_run.h"
@@ -161,6 +162,25 @@ TEST(Outputs, FloatFormatsByExtension) {
     const auto p = run_cli(dir, "render --mesh '" + mesh_path + "' --size 16x12 -q -o a.ppm");
     ASSERT_EQ(p.exit_code, 0) << p.err;
     EXPECT_EQ(read_text(dir.file("a.ppm")).size(), std::string("P6\n16 12\n255\n").size() + 16 * 12 * 3);
+}
+
+}  // namespace
+}  // namespace rtt
+
+namespace rtt {
+namespace {
+
+TEST(Outputs, SkippedInputIsReportedWithItsLine) {
+    TempDir dir("warnings");
+    std::ofstream(dir.file("w.obj")) << "mtllib missing.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n"
+                                        "usemtl shiny\nf 1 2 3\nf\n";
+    const auto r = test::run_cli(dir, "render --mesh w.obj --size 8x8 -q --stats -o w.png");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("w.obj:1: material library missing.mtl not found"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("w.obj:5: face with 2 vertices skipped"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("w.obj:8: face with 0 vertices skipped"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("w.obj:6: material 'shiny' is in no material library"), std::string::npos) << r.err;
+    EXPECT_NE(r.out.find("input warnings: 4"), std::string::npos) << r.out;
 }
 
 }  // namespace

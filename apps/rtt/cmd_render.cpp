@@ -10,6 +10,7 @@
 #include "cli_values.h"
 #include "commands.h"
 #include "output_set.h"
+#include "render/progress.h"
 #include "render_job.h"
 #include "rtt/camera.h"
 #include "rtt/error.h"
@@ -170,7 +171,11 @@ RenderJobResult run_render_job(const RenderJob& job) {
         early.validate(light_positions.size());
     }
 
-    LoadedScene loaded = load_scene(job.scene);
+    LoadedScene loaded = [&] {
+        const render_detail::ProgressBar progress(0, !job.quiet, "loading the scene");
+        return load_scene_quietly(job.scene);
+    }();
+    print_warnings(loaded.scene);
     Scene& scene = loaded.scene;
     const Bbox3f bounds = scene.bounds();
     if (camera)
@@ -193,9 +198,13 @@ RenderJobResult run_render_job(const RenderJob& job) {
     RenderJobResult out;
     out.scene_label = loaded.label;
     out.triangles = scene.triangle_count();
+    out.input_warnings = scene.warning_count;
     out.tracer = tracer_kind;
     const auto build_start = std::chrono::steady_clock::now();
-    const KdTree tree = build_kdtree(scene);
+    const KdTree tree = [&] {
+        const render_detail::ProgressBar progress(0, !job.quiet, "building the kd-tree");
+        return build_kdtree(scene);
+    }();
     out.kd_build_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count();
     const std::unique_ptr<Tracer> tracer = make_tracer(tracer_kind, scene, tree);

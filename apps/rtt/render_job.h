@@ -35,6 +35,7 @@ struct RenderJob {
 struct RenderJobResult {
     std::string scene_label;
     size_t triangles = 0;
+    size_t input_warnings = 0;  ///< Scene::warning_count of the loaded scene.
     std::string tracer;
     double kd_build_seconds = 0;
     RenderResult result;

@@ -1,6 +1,7 @@
 #include "scene_args.h"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <sstream>
 #include <vector>
@@ -21,7 +22,21 @@ void add_scene_options(CLI::App& command, SceneArgs& args) {
     mesh->excludes(scene);
 }
 
+void print_warnings(const Scene& scene) {
+    constexpr size_t shown = 5;
+    for (size_t i = 0; i < scene.warnings.size() && i < shown; ++i)
+        std::fprintf(stderr, "rtt: warning: %s\n", scene.warnings[i].c_str());
+    if (scene.warning_count > shown)
+        std::fprintf(stderr, "rtt: warning: ... and %zu more\n", scene.warning_count - shown);
+}
+
 LoadedScene load_scene(const SceneArgs& args) {
+    LoadedScene out = load_scene_quietly(args);
+    print_warnings(out.scene);
+    return out;
+}
+
+LoadedScene load_scene_quietly(const SceneArgs& args) {
     if (args.mesh.empty() == args.scene.empty())
         throw Error("give exactly one of --mesh FILE or --scene NAME|FILE.json");
     LoadedScene out;

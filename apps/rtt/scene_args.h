@@ -27,6 +27,12 @@ struct LoadedScene {
 /// default grey material, and the file's lights and cameras are dropped. A --scene is a
 /// built-in scene's name or a scene file (JSON, or any mesh format assimp reads). Throws
 /// rtt::Error when neither or both are given, the scene is unknown or the file is bad.
+/// The importer's warnings (skipped or repaired input, Scene::warnings) go to stderr, at most
+/// a few lines.
 LoadedScene load_scene(const SceneArgs& args);
+/// The same without printing the warnings.
+LoadedScene load_scene_quietly(const SceneArgs& args);
+/// The importer's warnings on stderr: a few lines, then how many more there were.
+void print_warnings(const Scene& scene);
 
 }  // namespace rtt::cli

@@ -34,6 +34,9 @@ void print_stats(std::FILE* out, const RenderJobResult& r) {
         out, "%s: %zu triangles, kd-tree built in %.3f s; tracer %s; %dx%d, %dx%d AA, %d threads\n",
         r.scene_label.c_str(), r.triangles, r.kd_build_seconds, r.tracer.c_str(), res.width,
         res.height, res.aa, res.aa, s.threads);
+    if (r.input_warnings)
+        std::fprintf(out, "input warnings: %zu (skipped or repaired input, first ones on stderr)\n",
+                     r.input_warnings);
     std::fprintf(out, "%-10s %9s %9s %12s %12s %12s %9s %9s %9s\n", "rays", "tiles", "rtt tiles",
                  "rays", "traced", "answered", "avg list", "seconds", "Mrays/s");
     const KindRow rows[] = {
@@ -58,6 +61,7 @@ void write_stats_json(const std::string& path, const RenderJob& job, const Rende
     const nlohmann::json j = {
         {"scene", r.scene_label},
         {"triangles", r.triangles},
+        {"input_warnings", r.input_warnings},
         {"tracer", r.tracer},
         {"width", res.width},
         {"height", res.height},

@@ -53,6 +53,15 @@ struct Scene {
     std::vector<Light> lights;
     std::optional<Camera> camera;
     Vec3f background{0.05f, 0.05f, 0.08f};
+    /// What an importer skipped or repaired ("file:line: face with 2 vertices skipped"): the
+    /// first max_kept_warnings messages, and how many there were in all.
+    std::vector<std::string> warnings;
+    size_t warning_count = 0;
+    static constexpr size_t max_kept_warnings = 16;
+    void warn(std::string message) {
+        if (warnings.size() < max_kept_warnings) warnings.push_back(std::move(message));
+        ++warning_count;
+    }
 
     size_t triangle_count() const { return triangles.size(); }
     Bbox3f bounds() const;

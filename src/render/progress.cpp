@@ -13,9 +13,9 @@ constexpr auto redraw_every = std::chrono::milliseconds(200);
 constexpr int bar_width = 40;
 }  // namespace
 
-ProgressBar::ProgressBar(uint64_t total, bool enabled)
-    : total_(total), start_(std::chrono::steady_clock::now()) {
-    if (enabled && total > 0 && isatty(STDERR_FILENO)) thread_ = std::thread([this] { run(); });
+ProgressBar::ProgressBar(uint64_t total, bool enabled, const char* label)
+    : total_(total), label_(label), start_(std::chrono::steady_clock::now()) {
+    if (enabled && isatty(STDERR_FILENO)) thread_ = std::thread([this] { run(); });
 }
 
 ProgressBar::~ProgressBar() {
@@ -27,7 +27,7 @@ ProgressBar::~ProgressBar() {
     wake_.notify_all();
     thread_.join();
     if (drawn_) {
-        std::fprintf(stderr, "\r%*s\r", bar_width + 32, "");
+        std::fprintf(stderr, "\r%*s\r", bar_width + 64, "");
         std::fflush(stderr);
     }
 }
@@ -42,13 +42,22 @@ void ProgressBar::run() {
 }
 
 void ProgressBar::draw(double seconds) {
+    if (total_ == 0) {
+        std::fprintf(stderr, "\r%s ...  %.1f s", label_, seconds);
+        std::fflush(stderr);
+        drawn_ = true;
+        return;
+    }
     const uint64_t done = std::min(done_.load(std::memory_order_relaxed), total_);
     const int filled = int(double(done) / double(total_) * bar_width);
     char bar[bar_width + 1];
     for (int i = 0; i < bar_width; ++i) bar[i] = i < filled ? '#' : '.';
     bar[bar_width] = '\0';
-    std::fprintf(stderr, "\rrendering [%s] %3d%%  %.1f s", bar,
-                 int(100.0 * double(done) / double(total_)), seconds);
+    // Time left at the rate so far; tiles cost about the same on average over a frame.
+    const double fraction = double(done) / double(total_);
+    char left[32] = "";
+    if (fraction > 0.02) std::snprintf(left, sizeof left, ", %.1f s left", seconds * (1.0 - fraction) / fraction);
+    std::fprintf(stderr, "\r%s [%s] %3d%%  %.1f s%s   ", label_, bar, int(100.0 * fraction), seconds, left);
     std::fflush(stderr);
     drawn_ = true;
 }

@@ -1,4 +1,5 @@
-// A progress bar on stderr for long renders.
+// A progress line on stderr for long phases: a bar with the time left for a render, the
+// elapsed time for phases of unknown length (loading a scene, building the kd-tree).
 #pragma once
 
 #include <atomic>
@@ -10,12 +11,13 @@
 
 namespace rtt::render_detail {
 
-/// Draws "[#####.....]  47%" on stderr while work advances, from its own thread. Shown only
-/// when enabled, stderr is a terminal and the work has run for about a second; the line is
-/// cleared when the bar is destroyed.
+/// Draws "rendering [#####.....]  47%  3.1 s, 3.5 s left" (or "building the kd-tree ...  2.0 s"
+/// when `total` is 0: work of unknown length) on stderr, from its own thread. Shown only when
+/// enabled, stderr is a terminal and the work has run for about a second; the line is cleared
+/// when the bar is destroyed.
 class ProgressBar {
 public:
-    ProgressBar(uint64_t total, bool enabled);
+    ProgressBar(uint64_t total, bool enabled, const char* label = "rendering");
     ~ProgressBar();
     ProgressBar(const ProgressBar&) = delete;
     ProgressBar& operator=(const ProgressBar&) = delete;
@@ -28,6 +30,7 @@ private:
     void draw(double seconds);
 
     uint64_t total_;
+    const char* label_;
     std::atomic<uint64_t> done_{0};
     std::chrono::steady_clock::time_point start_;
     std::mutex mutex_;

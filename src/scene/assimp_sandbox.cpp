@@ -20,7 +20,7 @@ namespace {
 
 // Every field of Scene crosses the pipe. A new field must be added to serialize_scene and
 // deserialize_scene: these sizes make the build fail until someone looks here.
-static_assert(sizeof(Scene) == 232 && sizeof(Material) == 64 && sizeof(Light) == 52 &&
+static_assert(sizeof(Scene) == 264 && sizeof(Material) == 64 && sizeof(Light) == 52 &&
                   sizeof(Camera) == 40,
               "Scene changed: update serialize_scene / deserialize_scene (assimp_sandbox.cpp)");
 static_assert(std::is_trivially_copyable_v<Light> && std::is_trivially_copyable_v<Camera> &&
@@ -186,6 +186,9 @@ void write_scene(Writer& w, const Scene& s) {
     w.pod(uint8_t(s.camera.has_value()));
     if (s.camera) w.pod(*s.camera);
     w.pod(s.background);
+    w.pod(uint64_t(s.warnings.size()));
+    for (const std::string& warning : s.warnings) w.string(warning);
+    w.pod(uint64_t(s.warning_count));
 }
 
 Scene read_scene(Reader& r) {
@@ -208,6 +211,12 @@ Scene read_scene(Reader& r) {
     s.lights = r.vector<Light>();
     if (r.pod<uint8_t>()) s.camera = r.pod<Camera>();
     s.background = r.pod<Vec3f>();
+    const auto warnings = r.pod<uint64_t>();
+    for (uint64_t i = 0; i < warnings; ++i) {
+        std::string warning = r.string();
+        if (i < Scene::max_kept_warnings) s.warnings.push_back(std::move(warning));
+    }
+    s.warning_count = size_t(r.pod<uint64_t>());
     return s;
 }
 

@@ -100,6 +100,7 @@ private:
             ++skipped_[key == "p" ? 0 : 1];
         } else if (key == "usemtl") {
             material_ = tk.size() < 2 ? std::string() : std::string(tk[1]);
+            material_line_ = p_.line;
         } else if (key == "mtllib") {
             for (size_t i = 1; i < tk.size(); ++i) load_mtl(std::string(tk[i]));
         }
@@ -111,6 +112,8 @@ private:
         const size_t n = tk.size() - 1;
         if (n < 3) {
             ++skipped_[n <= 1 ? 0 : 1];
+            scene_.warn(path_ + ":" + std::to_string(p_.line) + ": face with " + std::to_string(n) +
+                        (n == 1 ? " vertex" : " vertices") + " skipped");
             return;
         }
         corners_.clear();
@@ -140,7 +143,11 @@ private:
         const std::filesystem::path file = std::filesystem::path(path_).parent_path() / name;
         std::error_code ec;
         // A missing MTL file is common (not shipped with the OBJ): its faces get the default.
-        if (!std::filesystem::is_regular_file(file, ec)) return;
+        if (!std::filesystem::is_regular_file(file, ec)) {
+            scene_.warn(path_ + ":" + std::to_string(p_.line) + ": material library " + name +
+                        " not found; its materials are grey");
+            return;
+        }
         // Each file is read once: repeating "mtllib big.mtl" must not cost a read per line.
         if (!loaded_mtl_.insert(file.string()).second) return;
         for (auto& [key, m] : read_mtl(file.string())) mtl_.insert_or_assign(key, m);
@@ -151,7 +158,10 @@ private:
     uint32_t material_index() {
         const auto next = uint32_t(material_names_.size());
         const auto [it, added] = material_ids_.try_emplace(material_, next);
-        if (added) material_names_.push_back(material_);
+        if (added) {
+            material_names_.push_back(material_);
+            material_lines_.push_back(material_line_);
+        }
         return it->second;
     }
 
@@ -200,8 +210,12 @@ private:
         scene_.normals = std::move(norms);
         scene_.triangles = std::move(tris);
         scene_.triangle_material = std::move(tri_material_);
-        for (const std::string& name : material_names_) {
+        for (size_t i = 0; i < material_names_.size(); ++i) {
+            const std::string& name = material_names_[i];
             const auto m = mtl_.find(name);
+            if (m == mtl_.end() && !name.empty())
+                scene_.warn(path_ + ":" + std::to_string(material_lines_[i]) + ": material '" + name +
+                            "' is in no material library; grey instead");
             scene_.add_material(m == mtl_.end() ? Material{} : m->second);
         }
     }
@@ -213,6 +227,8 @@ private:
     std::vector<Corner> corners_, tri_corners_;
     std::vector<uint32_t> tri_material_;
     std::vector<int> tri_line_;
+    std::vector<int> material_lines_;  ///< The usemtl line of each material's first use.
+    int material_line_ = 0;
     std::string material_;
     std::unordered_map<std::string, Material> mtl_;
     std::unordered_map<std::string, uint32_t> material_ids_;
