@@ -8,27 +8,14 @@
 
 #include "rtt/error.h"
 #include "rtt/io.h"
+#include "temp_dir.h"
 
 namespace rtt {
 namespace {
 
 namespace fs = std::filesystem;
 
-/// A fresh, empty folder per test, removed afterwards.
-struct TempDir {
-    fs::path path;
-    explicit TempDir(const std::string& name)
-        : path(fs::temp_directory_path() /
-               ("rtt_buffers_test_" + std::to_string(getpid()) + "_" + name)) {
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-    std::string file(const std::string& name) const { return (path / name).string(); }
-    size_t entries() const {
-        return size_t(std::distance(fs::directory_iterator(path), fs::directory_iterator()));
-    }
-};
+using test::TempDir;
 
 std::vector<uint8_t> bytes_of(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
@@ -50,7 +37,7 @@ TEST(Buffers, HitBufferRoundTrip) {
     EXPECT_EQ(r.height, 2u);
     EXPECT_EQ(r.spp, 4u);
     EXPECT_EQ(r.hits, b.hits);
-    EXPECT_EQ(dir.entries(), 1u);  // no temporary left behind
+    EXPECT_EQ(dir.entries().size(), 1u);  // no temporary left behind
 }
 
 TEST(Buffers, ShadowBufferRoundTrip) {
@@ -117,7 +104,7 @@ TEST(Buffers, WriterRejectsMismatchedPayload) {
     const TempDir dir("mismatch");
     EXPECT_THROW(write_hit_buffer(dir.file("h.rtth"), HitBuffer{2, 2, 1, {1u, 2u, 3u}}), Error);
     EXPECT_THROW(write_shadow_buffer(dir.file("s.rtts"), ShadowBuffer{1, 1, 1, 33, {0u}}), Error);
-    EXPECT_EQ(dir.entries(), 0u);
+    EXPECT_EQ(dir.entries().size(), 0u);
 }
 
 TEST(Buffers, FailedWriteLeavesNoFile) {
@@ -131,7 +118,7 @@ TEST(Buffers, FailedWriteLeavesNoFile) {
                                        }),
                  std::runtime_error);
     EXPECT_FALSE(fs::exists(path));
-    EXPECT_EQ(dir.entries(), 0u);
+    EXPECT_EQ(dir.entries().size(), 0u);
 
     // An existing file survives a failed overwrite unchanged.
     write_file_atomically(path, [](std::FILE* f) { std::fputs("old", f); });
@@ -139,12 +126,12 @@ TEST(Buffers, FailedWriteLeavesNoFile) {
                  std::runtime_error);
     const std::vector<uint8_t> old = bytes_of(path);
     EXPECT_EQ(std::string(old.begin(), old.end()), "old");
-    EXPECT_EQ(dir.entries(), 1u);
+    EXPECT_EQ(dir.entries().size(), 1u);
 
     // An unwritable destination is an rtt::Error and creates nothing.
     EXPECT_THROW(write_hit_buffer(dir.file("no/such/folder/h.rtth"), HitBuffer{1, 1, 1, {0u}}),
                  Error);
-    EXPECT_EQ(dir.entries(), 1u);
+    EXPECT_EQ(dir.entries().size(), 1u);
 }
 
 TEST(Buffers, PngHasSignatureAndRejectsBadSizes) {

@@ -24,6 +24,7 @@
 #include "rtt/memory_budget.h"
 #include "rtt/render.h"
 #include "rtt/scene_io.h"
+#include "temp_dir.h"
 #include "test_env.h"
 #include "triangle_soup.h"
 
@@ -41,26 +42,7 @@ double seconds_since(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-struct TempDir {
-    fs::path path;
-    explicit TempDir(const std::string& name)
-        : path(fs::temp_directory_path() /
-               ("rtt_limits_test_" + std::to_string(getpid()) + "_" + name)) {
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-    std::string file(const std::string& name) const { return (path / name).string(); }
-    std::string write(const std::string& name, const std::string& text) const {
-        std::ofstream(file(name), std::ios::binary) << text;
-        return file(name);
-    }
-    size_t entries() const {
-        size_t n = 0;
-        for ([[maybe_unused]] const auto& e : fs::directory_iterator(path)) ++n;
-        return n;
-    }
-};
+using test::TempDir;
 
 std::string read_text(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
@@ -141,7 +123,7 @@ TEST(Limits, HugeImageRefusedBeforeAllocatingUnderUlimit) {
         << big.err;
     EXPECT_NE(big.err.find("needs about"), std::string::npos) << big.err;
     EXPECT_LT(big.seconds, 10.0 * time_slack) << "refused only after trying";
-    EXPECT_EQ(dir.entries(), 0u);
+    EXPECT_EQ(dir.entries().size(), 0u);
     // The budget is not so conservative that ordinary work fails under the same limit.
     const RunResult small =
         run_cli(dir, "render --mesh '" + mesh_path + "' --size 64x48 -q -o small.png", limit);
@@ -343,7 +325,7 @@ TEST(Limits, FailedOutputsLeaveNothingBehindAndKeepExistingFiles) {
     dir.write("old.png", "old image");
     dir.write("a_file", "not a folder");
     fs::create_directories(dir.file("a_folder"));
-    const size_t before = dir.entries();
+    const size_t before = dir.entries().size();
     struct Case {
         const char* what;
         std::string args;
@@ -359,7 +341,7 @@ TEST(Limits, FailedOutputsLeaveNothingBehindAndKeepExistingFiles) {
         const RunResult r = run_cli(dir, c.args);
         EXPECT_EQ(r.exit_code, 1) << c.what << ": " << r.err;
         EXPECT_EQ(r.err.rfind("rtt: error: ", 0), 0u) << c.what << ": " << r.err;
-        EXPECT_EQ(dir.entries(), before) << c.what << ": left a file behind";
+        EXPECT_EQ(dir.entries().size(), before) << c.what << ": left a file behind";
         EXPECT_EQ(read_text(dir.file("old.png")), "old image") << c.what;
         EXPECT_TRUE(fs::is_directory(dir.file("a_folder"))) << c.what;
     }
