@@ -6,6 +6,7 @@
 #include <cstring>
 #include <mutex>
 #include <numbers>
+#include <tuple>
 
 #include "geom/triangle.h"
 #include "rtt/camera.h"
@@ -293,6 +294,47 @@ TEST(Render, ThreadCountDoesNotChangeAnything) {
     EXPECT_EQ(a.shadow_map, b.shadow_map);
     EXPECT_EQ(a.stats.rays_by_depth, b.stats.rays_by_depth);
     EXPECT_EQ(a.stats.shadow.trace.rays, b.stats.shadow.trace.rays);
+}
+
+TEST(Render, BandsInAnyOrderAssembleTheSameImage) {
+    const Fixture f(make_test_scene());
+    RenderOptions o = options(90, 70, 2);  // 18 tile rows, the last cut to 2 pixel rows
+    o.hits_buffer = o.shadow_buffer = o.primary_map = o.pixel_hits = true;
+    o.shadow_map_light = 1;
+    const RenderResult whole = render(f.scene, *f.tracer, o);
+    // Bands of 1, 2, 3, 4 and 8 tile rows, handed out last first.
+    std::vector<std::pair<int, int>> bands = {{0, 1}, {1, 2}, {3, 3}, {6, 4}, {10, 8}};
+    RenderResult assembled = whole;
+    for (auto* v : {&assembled.hits, &assembled.shadows}) std::fill(v->begin(), v->end(), 7u);
+    std::fill(assembled.pixels.begin(), assembled.pixels.end(), Vec3f{-1.f});
+    const size_t spp = size_t(o.aa * o.aa);
+    const RenderStats stats = render_bands(
+        f.scene, *f.tracer, o,
+        [&](int& first, int& count) {
+            if (bands.empty()) return false;
+            std::tie(first, count) = bands.back();
+            bands.pop_back();
+            return true;
+        },
+        [&](RenderResult& band) {
+            const size_t at = size_t(band.first_row) * size_t(o.width);
+            std::copy(band.pixels.begin(), band.pixels.end(), assembled.pixels.begin() + long(at));
+            std::copy(band.hits.begin(), band.hits.end(), assembled.hits.begin() + long(at * spp));
+            std::copy(band.shadows.begin(), band.shadows.end(), assembled.shadows.begin() + long(at * spp));
+            std::copy(band.depth.begin(), band.depth.end(), assembled.depth.begin() + long(at));
+            EXPECT_EQ(band.pixels.size(), size_t(band.rows) * size_t(o.width));
+        });
+    EXPECT_EQ(std::memcmp(assembled.pixels.data(), whole.pixels.data(), whole.pixels.size() * sizeof(Vec3f)), 0);
+    EXPECT_EQ(assembled.hits, whole.hits);
+    EXPECT_EQ(assembled.shadows, whole.shadows);
+    EXPECT_EQ(std::memcmp(assembled.depth.data(), whole.depth.data(), whole.depth.size() * sizeof(float)), 0);
+    EXPECT_EQ(stats.rays_by_depth, whole.stats.rays_by_depth);
+    EXPECT_EQ(stats.primary.trace.rays, whole.stats.primary.trace.rays);
+    EXPECT_EQ(stats.shadow.trace.answered, whole.stats.shadow.trace.answered);
+    // A band outside the image is refused.
+    EXPECT_THROW(render_bands(f.scene, *f.tracer, o, [](int& first, int& count) { first = 17, count = 2; return true; },
+                              [](RenderResult&) {}),
+                 Error);
 }
 
 TEST(Render, ImageDoesNotDependOnRequestedBuffers) {

@@ -41,6 +41,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "rtt/math.h"
@@ -105,6 +106,10 @@ struct RenderResult {
     int width = 0;
     int height = 0;
     int aa = 1;
+    /// The pixel rows the arrays below hold: all of them from render(), one band from
+    /// render_bands() (rows [first_row, first_row + rows), in the same layout).
+    int first_row = 0;
+    int rows = 0;
     /// Linear RGB per pixel, row-major, y = 0 at the top; box filter of the pixel's samples.
     std::vector<Vec3f> pixels;
     /// CONVENTIONS' RTTH payload (sample order y, x, j, i; invalid_triangle = miss), if asked.
@@ -132,6 +137,18 @@ RenderResult render(const Scene& scene, const Tracer& tracer, const RenderOption
 /// the linear pixels, the 8-bit image, the Figure 5 maps and the hit and shadow buffers (with
 /// the copy the buffer writer makes).
 uint64_t render_memory_bytes(const RenderOptions& options);
+
+/// Renders the image a band of whole tile rows at a time, in any order and on demand: while
+/// next_band(first_tile_row, tile_rows) returns true, renders tile rows [first_tile_row,
+/// first_tile_row + tile_rows) (a tile row is 4 pixel rows; the last may be cut by the image)
+/// and hands their result to band_done (first_row, rows set; stats empty). Returns the
+/// statistics of every band rendered. A band's pixels and buffers are those render() gives
+/// for the same rows, bit for bit, whatever the band sizes: a distributed renderer
+/// (apps/rtt/mpi_render.cpp) assembles the image from bands rendered on several machines.
+/// Throws rtt::Error for options out of range or a band outside the image.
+RenderStats render_bands(const Scene& scene, const Tracer& tracer, const RenderOptions& options,
+                         const std::function<bool(int& first_tile_row, int& tile_rows)>& next_band,
+                         const std::function<void(RenderResult& band)>& band_done);
 
 /// 8-bit sRGB (R, G, B per pixel) of linear pixels, clamped to [0, 1].
 std::vector<uint8_t> encode_srgb8(const std::vector<Vec3f>& pixels);

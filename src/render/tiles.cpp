@@ -10,6 +10,7 @@
 #include <oneapi/tbb/task_arena.h>
 
 #include <chrono>
+#include <functional>
 #include <string>
 
 #include "render/progress.h"
@@ -59,6 +60,7 @@ struct TileJob {
     const RenderContext& ctx;
     const CameraRays& camera;
     RenderResult& out;
+    int first_row = 0;  ///< Image row of out's first row (a band of tile rows).
 };
 
 void render_tile(const TileJob& job, int tx, int ty, ThreadStats& ts) {
@@ -85,7 +87,7 @@ void render_tile(const TileJob& job, int tx, int ty, ThreadStats& ts) {
             for (int j = 0; j < k; ++j) {
                 for (int i = 0; i < k; ++i) {
                     const size_t s = size_t(py * k + j) * n + size_t(px * k + i);
-                    const size_t dst = ((size_t(y) * w + x) * k + j) * k + i;
+                    const size_t dst = ((size_t(y - job.first_row) * w + x) * k + j) * k + i;
                     sum += colors[s];
                     if (opt.hits_buffer) out.hits[dst] = record.hits[s].tri;
                     if (opt.shadow_buffer) out.shadows[dst] = record.visible[s];
@@ -100,7 +102,7 @@ void render_tile(const TileJob& job, int tx, int ty, ThreadStats& ts) {
                     }
                 }
             }
-            const size_t pixel = size_t(y) * w + x;
+            const size_t pixel = size_t(y - job.first_row) * w + x;
             out.pixels[pixel] = sum / float(spp);
             if (opt.pixel_hits) {
                 const Hit& first = record.hits[size_t(py * k) * n + size_t(px * k)];
@@ -118,29 +120,40 @@ void render_tile(const TileJob& job, int tx, int ty, ThreadStats& ts) {
 }  // namespace
 }  // namespace render_detail
 
-RenderResult render(const Scene& scene, const Tracer& tracer, const RenderOptions& options) {
+namespace render_detail {
+namespace {
+
+/// Allocates `out` for pixel rows [first_row, first_row + rows) of the image.
+void allocate(RenderResult& out, const RenderOptions& options, int first_row, int rows) {
+    out.width = options.width;
+    out.height = options.height;
+    out.aa = options.aa;
+    out.first_row = first_row;
+    out.rows = rows;
+    const size_t pixels = size_t(options.width) * size_t(rows);
+    const size_t samples = pixels * size_t(options.aa) * size_t(options.aa);
+    out.pixels.assign(pixels, Vec3f{0.f});
+    if (options.hits_buffer) out.hits.assign(samples, 0);
+    if (options.shadow_buffer) out.shadows.assign(samples, 0);
+    if (options.primary_map) out.primary_map.assign(pixels, 0);
+    if (options.shadow_map_light >= 0) out.shadow_map.assign(pixels, 0);
+    if (options.pixel_hits) {
+        out.depth.assign(pixels, 0.f);
+        out.first_triangle.assign(pixels, 0);
+    }
+}
+
+}  // namespace
+}  // namespace render_detail
+
+RenderStats render_bands(const Scene& scene, const Tracer& tracer, const RenderOptions& options,
+                         const std::function<bool(int&, int&)>& next_band,
+                         const std::function<void(RenderResult&)>& band_done) {
     using namespace render_detail;
     const auto start = std::chrono::steady_clock::now();
     options.validate(scene.lights.size());
     const CameraRays camera(options.camera, options.width, options.height, options.aa);
     const RenderContext ctx = make_context(scene, tracer, options);
-
-    RenderResult out;
-    out.width = options.width;
-    out.height = options.height;
-    out.aa = options.aa;
-    const size_t pixels = size_t(options.width) * size_t(options.height);
-    const size_t samples = pixels * size_t(options.aa) * size_t(options.aa);
-    out.pixels.resize(pixels);
-    if (options.hits_buffer) out.hits.resize(samples);
-    if (options.shadow_buffer) out.shadows.resize(samples);
-    if (options.primary_map) out.primary_map.resize(pixels);
-    if (options.shadow_map_light >= 0) out.shadow_map.resize(pixels);
-    if (options.pixel_hits) {
-        out.depth.resize(pixels);
-        out.first_triangle.resize(pixels);
-    }
-
     const int tiles_x = (options.width + 3) / 4, tiles_y = (options.height + 3) / 4;
     const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
     tbb::enumerable_thread_specific<ThreadStats> per_thread([&] {
@@ -148,23 +161,35 @@ RenderResult render(const Scene& scene, const Tracer& tracer, const RenderOption
         s.rays_by_depth.assign(size_t(options.max_depth) + 1, 0);
         return s;
     });
-    const TileJob job{ctx, camera, out};
     {
         ProgressBar progress(uint64_t(tiles_x) * uint64_t(tiles_y), options.progress);
         tbb::task_arena arena(threads);
-        arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y),
-                              [&](const tbb::blocked_range<int>& r) {
-                                  ThreadStats& ts = per_thread.local();
-                                  for (int t = r.begin(); t < r.end(); ++t) {
-                                      render_tile(job, t % tiles_x, t / tiles_x, ts);
-                                      progress.advance();
-                                  }
-                              });
-        });
+        int first_tile_row = 0, tile_rows = 0;
+        while (next_band(first_tile_row, tile_rows)) {
+            if (first_tile_row < 0 || tile_rows < 1 || first_tile_row + tile_rows > tiles_y)
+                throw Error("render: band of tile rows [" + std::to_string(first_tile_row) + ", " +
+                            std::to_string(first_tile_row + tile_rows) + ") outside the image's " +
+                            std::to_string(tiles_y));
+            const int first_row = 4 * first_tile_row;
+            const int rows = std::min(options.height, 4 * (first_tile_row + tile_rows)) - first_row;
+            RenderResult band;
+            allocate(band, options, first_row, rows);
+            const TileJob job{ctx, camera, band, first_row};
+            const int first_tile = first_tile_row * tiles_x, end_tile = (first_tile_row + tile_rows) * tiles_x;
+            arena.execute([&] {
+                tbb::parallel_for(tbb::blocked_range<int>(first_tile, end_tile), [&](const tbb::blocked_range<int>& r) {
+                    ThreadStats& ts = per_thread.local();
+                    for (int t = r.begin(); t < r.end(); ++t) {
+                        render_tile(job, t % tiles_x, t / tiles_x, ts);
+                        progress.advance();
+                    }
+                });
+            });
+            band_done(band);
+        }
     }
 
-    RenderStats& stats = out.stats;
+    RenderStats stats;
     stats.rays_by_depth.assign(size_t(options.max_depth) + 1, 0);
     for (const ThreadStats& ts : per_thread) {
         KindStats* kinds[3] = {&stats.primary, &stats.shadow, &stats.secondary};
@@ -178,6 +203,22 @@ RenderResult render(const Scene& scene, const Tracer& tracer, const RenderOption
     stats.threads = threads;
     stats.wall_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return stats;
+}
+
+RenderResult render(const Scene& scene, const Tracer& tracer, const RenderOptions& options) {
+    RenderResult out;
+    bool given = false;
+    const int tiles_y = (options.height + 3) / 4;
+    const RenderStats stats = render_bands(
+        scene, tracer, options,
+        [&](int& first, int& count) {
+            if (given) return false;
+            first = 0, count = tiles_y, given = true;
+            return true;
+        },
+        [&](RenderResult& band) { out = std::move(band); });
+    out.stats = stats;
     return out;
 }
 
