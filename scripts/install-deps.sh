@@ -7,6 +7,7 @@ packages=(
   libassimp-dev libtbb-dev libcli11-dev nlohmann-json3-dev libpng-dev libstb-dev libopenexr-dev
   libgtest-dev libbenchmark-dev libembree-dev
   python3-dev pybind11-dev python3-numpy python3-pytest  # the Python module and its tests
+  libopenmpi-dev openmpi-bin                             # distributed rendering under mpirun
   clang libclang-rt-14-dev  # scripts/fuzz.sh: libFuzzer and the sanitizer runtimes for clang 14
   llvm                      # llvm-symbolizer: function names and lines in clang's sanitizer reports
 )

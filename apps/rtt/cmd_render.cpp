@@ -9,6 +9,7 @@
 
 #include "cli_values.h"
 #include "commands.h"
+#include "mpi_render.h"
 #include "output_set.h"
 #include "render/progress.h"
 #include "render_job.h"
@@ -163,7 +164,8 @@ RenderJobResult run_render_job(const RenderJob& job) {
     if (!job.map_primary.empty()) outputs.add("--rtt-map-primary", job.map_primary, {".png", ".pgm"});
     if (!job.map_shadow.empty()) outputs.add("--rtt-map-shadow", job.map_shadow, {".png", ".pgm"});
     if (!job.stats_json.empty()) outputs.add("--stats-json", job.stats_json);
-    outputs.check_writable();
+    const bool writer = mpi_rank() == 0;  // under mpirun, rank 0 writes and reports
+    if (writer) outputs.check_writable();
     {
         // Size, K, depth and threads before loading anything; the map light once lights are known.
         RenderOptions early = opt;
@@ -172,10 +174,10 @@ RenderJobResult run_render_job(const RenderJob& job) {
     }
 
     LoadedScene loaded = [&] {
-        const render_detail::ProgressBar progress(0, !job.quiet, "loading the scene");
+        const render_detail::ProgressBar progress(0, !job.quiet && writer, "loading the scene");
         return load_scene_quietly(job.scene);
     }();
-    print_warnings(loaded.scene);
+    if (writer) print_warnings(loaded.scene);
     Scene& scene = loaded.scene;
     const Bbox3f bounds = scene.bounds();
     if (camera)
@@ -202,13 +204,16 @@ RenderJobResult run_render_job(const RenderJob& job) {
     out.tracer = tracer_kind;
     const auto build_start = std::chrono::steady_clock::now();
     const KdTree tree = [&] {
-        const render_detail::ProgressBar progress(0, !job.quiet, "building the kd-tree");
+        const render_detail::ProgressBar progress(0, !job.quiet && writer, "building the kd-tree");
         return build_kdtree(scene);
     }();
     out.kd_build_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count();
     const std::unique_ptr<Tracer> tracer = make_tracer(tracer_kind, scene, tree);
-    out.result = render(scene, *tracer, opt);
+    opt.progress = opt.progress && writer;
+    out.result = mpi_distributed() ? render_distributed(scene, *tracer, opt, &out.ranks)
+                                   : render(scene, *tracer, opt);
+    if (!writer) return out;
     const RenderResult& r = out.result;
 
     if (!job.image.empty())
@@ -296,7 +301,7 @@ void add_render_command(CLI::App& app) {
         const bool defaulted = has_no_output(*job);
         if (defaulted) job->image = default_image_path(job->scene);
         run_render_job(*job);
-        if (defaulted) std::printf("rtt: wrote %s (choose outputs with -o, --hits, --shadows, --stats)\n", job->image.c_str());
+        if (defaulted && mpi_rank() == 0) std::printf("rtt: wrote %s (choose outputs with -o, --hits, --shadows, --stats)\n", job->image.c_str());
     });
 }
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "rtt/render.h"
+#include "mpi_render.h"
 #include "scene_args.h"
 
 namespace rtt::cli {
@@ -39,6 +40,7 @@ struct RenderJobResult {
     std::string tracer;
     double kd_build_seconds = 0;
     RenderResult result;
+    std::vector<RankStats> ranks;  ///< Under mpirun (on rank 0): what each rank did.
 };
 
 /// The extensions -o accepts, and the arbitrary output variables --aov accepts.

@@ -49,6 +49,9 @@ void print_stats(std::FILE* out, const RenderJobResult& r) {
                      (unsigned long long)t.answered, t.avg_relevant(), row.stats->seconds,
                      row.stats->mrays_per_second());
     }
+    for (const RankStats& rank : r.ranks)
+        std::fprintf(out, "rank %d: %llu tiles, %.3f s rendering, %.3f s idle\n", rank.rank,
+                     (unsigned long long)rank.tiles, rank.busy_seconds, rank.idle_seconds);
     std::fprintf(out,
                  "seconds = time inside the tracer summed over threads; Mrays/s = rays / seconds; "
                  "render wall time %.3f s\n",

@@ -1,0 +1,47 @@
+// Rendering across machines with MPI (README, "Distributed rendering"): started by mpirun with
+// several ranks, every rank loads the scene and builds its tree; rank 0 hands out bands of tile
+// rows on demand (a dispatcher thread answers requests while rank 0 renders bands too), the
+// other ranks render them with their own threads and send them back, and rank 0 assembles the
+// image and buffers, bit for bit what one process renders, and writes every output.
+// Without MPI in the build, or without mpirun, nothing here changes a run.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "rtt/render.h"
+
+namespace rtt::cli {
+
+/// Starts MPI when the program was launched by mpirun (or another MPI launcher) and this build
+/// has MPI; no-op otherwise. Call once at the start of main.
+void mpi_start(int& argc, char**& argv);
+/// Ends MPI if it was started.
+void mpi_finish();
+
+/// True when this run has more than one rank.
+bool mpi_distributed();
+/// This process's rank (0 without MPI), and the number of ranks (1 without MPI).
+int mpi_rank();
+int mpi_size();
+
+/// Ends the whole job after a failure on this rank: prints "rtt: error: rank R: message" and
+/// aborts every rank (the exit status is not 0, and rank 0 writes no output).
+[[noreturn]] void mpi_abort(const std::string& message);
+
+/// What one rank did in a distributed render: the load balance.
+struct RankStats {
+    int rank = 0;
+    uint64_t tiles = 0;        ///< 4x4-pixel tiles it rendered.
+    double busy_seconds = 0;   ///< Wall time rendering its bands.
+    double idle_seconds = 0;   ///< Wall time waiting for bands or for the others to finish.
+};
+
+/// render() distributed over the ranks. Every rank must call it with the same scene and options.
+/// Rank 0 gets the whole result, with the ray statistics summed over the ranks, and (if
+/// `ranks`) every rank's RankStats; other ranks get an empty result.
+RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const RenderOptions& options,
+                                std::vector<RankStats>* ranks = nullptr);
+
+}  // namespace rtt::cli
