@@ -185,3 +185,37 @@ TEST(Outputs, SkippedInputIsReportedWithItsLine) {
 
 }  // namespace
 }  // namespace rtt
+
+namespace rtt {
+namespace {
+
+TEST(Outputs, CameraPathRendersNumberedFramesLikeSingleRenders) {
+    TempDir dir("path");
+    dir.write("path.txt", "# three cameras\n1,1.6,4.5,3,1.2,0,0,1,0,60\n\n2,1.6,4.5,3,1.2,0,0,1,0,60\n"
+                          "3,1.6,4.5,3,1.2,0,0,1,0,50\n");
+    const std::string common = "render --scene room --size 24x16 -q ";
+    const auto r = run_cli(dir, common + "--camera-path path.txt -o f_%03d.png --hits h_%03d.rtth");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto one = run_cli(dir, common + "--camera 2,1.6,4.5,3,1.2,0,0,1,0,60 -o one.png --hits one.rtth");
+    ASSERT_EQ(one.exit_code, 0) << one.err;
+    EXPECT_EQ(read_text(dir.file("f_001.png")), read_text(dir.file("one.png")));
+    EXPECT_EQ(read_text(dir.file("h_001.rtth")), read_text(dir.file("one.rtth")));
+    EXPECT_NE(read_text(dir.file("f_000.png")), read_text(dir.file("f_001.png")));
+    EXPECT_TRUE(std::filesystem::exists(dir.file("f_002.png")));
+    // Names without a frame number, other '%' directives, bad lines: errors before any work.
+    const auto shared = run_cli(dir, common + "--camera-path path.txt -o same.png");
+    EXPECT_EQ(shared.exit_code, 1);
+    EXPECT_NE(shared.err.find("3 frames need a frame number"), std::string::npos) << shared.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("same.png")));
+    EXPECT_EQ(run_cli(dir, common + "--camera-path path.txt -o f%s.png").exit_code, 1);
+    dir.write("bad.txt", "1,2,3\n");
+    const auto bad = run_cli(dir, common + "--camera-path bad.txt -o b_%d.png");
+    EXPECT_EQ(bad.exit_code, 1);
+    EXPECT_NE(bad.err.find("bad.txt:1: camera"), std::string::npos) << bad.err;
+    // Without a camera path a '%' in a name is just a character.
+    EXPECT_EQ(run_cli(dir, common + "-o 'p%d.png'").exit_code, 0);
+    EXPECT_TRUE(std::filesystem::exists(dir.file("p%d.png")));
+}
+
+}  // namespace
+}  // namespace rtt

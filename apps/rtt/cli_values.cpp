@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -83,6 +84,43 @@ Camera parse_camera(const std::string& text) {
     for (float f : v)
         if (!std::isfinite(f)) throw Error("camera: NaN or infinite value");
     return Camera{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, v[9]};
+}
+
+std::vector<Camera> read_camera_path(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw Error(path + ": cannot open the camera path");
+    std::vector<Camera> cameras;
+    std::string line;
+    for (int number = 1; std::getline(in, line); ++number) {
+        const size_t first = line.find_first_not_of(" \t\r");
+        if (first == std::string::npos || line[first] == '#') continue;
+        if (line.back() == '\r') line.pop_back();
+        try {
+            cameras.push_back(parse_camera(line));
+        } catch (const Error& e) {
+            throw Error(path, number, e.what());
+        }
+    }
+    if (cameras.empty()) throw Error(path + ": no camera in the camera path");
+    return cameras;
+}
+
+std::string frame_file_name(const std::string& option, const std::string& pattern, size_t frame, size_t frames) {
+    const size_t at = pattern.find('%');
+    if (at == std::string::npos) {
+        if (frames > 1)
+            throw Error(option + ": " + std::to_string(frames) + " frames need a frame number in the file name, as in " +
+                        "frame_%04d.png (got '" + pattern + "')");
+        return pattern;
+    }
+    size_t end = at + 1, width = 0;
+    if (end < pattern.size() && pattern[end] == '0') ++end;
+    if (end < pattern.size() && pattern[end] >= '1' && pattern[end] <= '9') width = size_t(pattern[end++] - '0');
+    if (end >= pattern.size() || pattern[end] != 'd' || pattern.find('%', end) != std::string::npos)
+        throw Error(option + ": '" + pattern + "': the only '%' directive a file name may hold is one %d or %0Nd");
+    std::string number = std::to_string(frame);
+    if (number.size() < width) number.insert(0, width - number.size(), '0');
+    return pattern.substr(0, at) + number + pattern.substr(end + 1);
 }
 
 }  // namespace rtt

@@ -120,6 +120,45 @@ std::string default_tracer_kind() {
     return kinds.empty() ? "ray" : kinds.front();
 }
 
+namespace {
+
+/// Writes one frame's outputs (names from the job's patterns) through `outputs`.
+void write_outputs(OutputSet& outputs, const RenderJob& job, size_t frame, size_t frames,
+                   const Scene& scene, const RenderJobResult& out) {
+    const RenderResult& r = out.result;
+    const auto name = [&](const char* option, const std::string& pattern) {
+        return job.camera_path.empty() ? pattern : frame_file_name(option, pattern, frame, frames);
+    };
+    const auto spp = uint32_t(r.aa * r.aa);
+    if (!job.image.empty())
+        outputs.write(name("-o", job.image), [&](const std::string& tmp) {
+            write_image(tmp, extension_of(job.image), job, scene, r);
+        });
+    if (!job.hits.empty())
+        outputs.write(name("--hits", job.hits), [&](const std::string& tmp) {
+            write_hit_buffer(tmp, HitBuffer{uint32_t(r.width), uint32_t(r.height), spp, r.hits});
+        });
+    if (!job.shadows.empty())
+        outputs.write(name("--shadows", job.shadows), [&](const std::string& tmp) {
+            write_shadow_buffer(tmp, ShadowBuffer{uint32_t(r.width), uint32_t(r.height), spp,
+                                                  uint32_t(scene.lights.size()), r.shadows});
+        });
+    if (!job.map_primary.empty())
+        outputs.write(name("--rtt-map-primary", job.map_primary), [&](const std::string& tmp) {
+            write_grey(tmp, extension_of(job.map_primary), r.width, r.height, r.primary_map);
+        });
+    if (!job.map_shadow.empty())
+        outputs.write(name("--rtt-map-shadow", job.map_shadow), [&](const std::string& tmp) {
+            write_grey(tmp, extension_of(job.map_shadow), r.width, r.height, r.shadow_map);
+        });
+    if (!job.stats_json.empty())
+        outputs.write(name("--stats-json", job.stats_json),
+                      [&](const std::string& tmp) { write_stats_json(tmp, job, out); });
+    outputs.commit();
+}
+
+}  // namespace
+
 RenderJobResult run_render_job(const RenderJob& job) {
     // Everything checkable without the scene first: bad options fail fast.
     RenderOptions opt;
@@ -156,16 +195,36 @@ RenderJobResult run_render_job(const RenderJob& job) {
     opt.pixel_hits = wants("depth") || wants("normal") || wants("triangle");
     if (wants("rtt")) opt.primary_map = true;
 
-    // Every destination before any work: names, extensions, folders.
-    OutputSet outputs;
-    if (!job.image.empty()) outputs.add("-o", job.image, image_extensions());
-    if (!job.hits.empty()) outputs.add("--hits", job.hits);
-    if (!job.shadows.empty()) outputs.add("--shadows", job.shadows);
-    if (!job.map_primary.empty()) outputs.add("--rtt-map-primary", job.map_primary, {".png", ".pgm"});
-    if (!job.map_shadow.empty()) outputs.add("--rtt-map-shadow", job.map_shadow, {".png", ".pgm"});
-    if (!job.stats_json.empty()) outputs.add("--stats-json", job.stats_json);
+    std::vector<Camera> path;
+    if (!job.camera_path.empty()) {
+        if (camera) throw Error("give --camera or --camera-path, not both");
+        path = read_camera_path(job.camera_path);
+    }
+    const size_t frames = path.empty() ? 1 : path.size();
+
+    // Every destination before any work: names, extensions, folders (of the first and last
+    // frame of a camera path: a pattern puts all frames in one folder).
+    const auto frame_outputs = [&](size_t frame, OutputSet& outputs) {
+        const auto add = [&](const char* option, const std::string& pattern,
+                             const std::vector<std::string>& extensions = {}) {
+            if (pattern.empty()) return;
+            // Names are patterns only for a camera path; otherwise taken as given.
+            outputs.add(option, path.empty() ? pattern : frame_file_name(option, pattern, frame, frames),
+                        extensions);
+        };
+        add("-o", job.image, image_extensions());
+        add("--hits", job.hits);
+        add("--shadows", job.shadows);
+        add("--rtt-map-primary", job.map_primary, {".png", ".pgm"});
+        add("--rtt-map-shadow", job.map_shadow, {".png", ".pgm"});
+        add("--stats-json", job.stats_json);
+    };
     const bool writer = mpi_rank() == 0;  // under mpirun, rank 0 writes and reports
-    if (writer) outputs.check_writable();
+    for (size_t frame : {size_t(0), frames - 1}) {
+        OutputSet outputs;
+        frame_outputs(frame, outputs);
+        if (writer) outputs.check_writable();
+    }
     {
         // Size, K, depth and threads before loading anything; the map light once lights are known.
         RenderOptions early = opt;
@@ -180,18 +239,19 @@ RenderJobResult run_render_job(const RenderJob& job) {
     if (writer) print_warnings(loaded.scene);
     Scene& scene = loaded.scene;
     const Bbox3f bounds = scene.bounds();
-    if (camera)
-        opt.camera = *camera;
-    else if (scene.camera && !loaded.from_mesh)
-        opt.camera = *scene.camera;
-    else
-        opt.camera = default_camera_for(bounds);
+    const auto camera_of = [&](size_t frame) {
+        if (!path.empty()) return path[frame];
+        if (camera) return *camera;
+        return scene.camera && !loaded.from_mesh ? *scene.camera : default_camera_for(bounds);
+    };
+    opt.camera = camera_of(0);
+    // A mesh (or a scene without lights) is lit from the eye: everything visible is lit.
+    const bool lit_from_eye = light_positions.empty() && scene.lights.empty();
     if (!light_positions.empty()) {
         scene.lights.clear();
         for (const Vec3f& p : light_positions)
             scene.lights.push_back(make_point_light(p, bounds, light_positions.size()));
-    } else if (scene.lights.empty()) {
-        // A mesh (or a scene without lights) is lit from the eye: everything visible is lit.
+    } else if (lit_from_eye) {
         scene.lights.push_back(make_point_light(opt.camera.position, bounds, 1));
     }
     validate(scene);
@@ -211,39 +271,24 @@ RenderJobResult run_render_job(const RenderJob& job) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count();
     const std::unique_ptr<Tracer> tracer = make_tracer(tracer_kind, scene, tree);
     opt.progress = opt.progress && writer;
-    out.result = mpi_distributed() ? render_distributed(scene, *tracer, opt, &out.ranks)
-                                   : render(scene, *tracer, opt);
-    if (!writer) return out;
-    const RenderResult& r = out.result;
-
-    if (!job.image.empty())
-        outputs.write(job.image, [&](const std::string& tmp) {
-            write_image(tmp, extension_of(job.image), job, scene, r);
-        });
-    const auto spp = uint32_t(r.aa * r.aa);
-    if (!job.hits.empty())
-        outputs.write(job.hits, [&](const std::string& tmp) {
-            write_hit_buffer(tmp, HitBuffer{uint32_t(r.width), uint32_t(r.height), spp, r.hits});
-        });
-    if (!job.shadows.empty())
-        outputs.write(job.shadows, [&](const std::string& tmp) {
-            write_shadow_buffer(tmp, ShadowBuffer{uint32_t(r.width), uint32_t(r.height), spp,
-                                                  uint32_t(scene.lights.size()), r.shadows});
-        });
-    if (!job.map_primary.empty())
-        outputs.write(job.map_primary, [&](const std::string& tmp) {
-            write_grey(tmp, extension_of(job.map_primary), r.width, r.height, r.primary_map);
-        });
-    if (!job.map_shadow.empty())
-        outputs.write(job.map_shadow, [&](const std::string& tmp) {
-            write_grey(tmp, extension_of(job.map_shadow), r.width, r.height, r.shadow_map);
-        });
-    if (!job.stats_json.empty())
-        outputs.write(job.stats_json, [&](const std::string& tmp) { write_stats_json(tmp, job, out); });
-    outputs.commit();
-    if (job.stats) print_stats(stdout, out);
+    for (size_t frame = 0; frame < frames; ++frame) {
+        opt.camera = camera_of(frame);
+        if (lit_from_eye) scene.lights[0] = make_point_light(opt.camera.position, bounds, 1);
+        out.ranks.clear();
+        out.result = mpi_distributed() ? render_distributed(scene, *tracer, opt, &out.ranks)
+                                       : render(scene, *tracer, opt);
+        if (!writer) continue;
+        // One frame's outputs are written all or none; earlier frames stay.
+        OutputSet outputs;
+        frame_outputs(frame, outputs);
+        write_outputs(outputs, job, frame, frames, scene, out);
+        if (job.stats) print_stats(stdout, out);
+        if (frames > 1 && !job.quiet)
+            std::fprintf(stderr, "rtt: frame %zu of %zu done\n", frame + 1, frames);
+    }
     return out;
 }
+
 
 void add_render_command(CLI::App& app) {
     auto job = std::make_shared<RenderJob>();
@@ -260,6 +305,9 @@ void add_render_command(CLI::App& app) {
     add_scene_options(*cmd, job->scene);
     cmd->add_option("--camera", job->camera,
                     "Pinhole camera px,py,pz,tx,ty,tz,ux,uy,uz,fovy (degrees)");
+    cmd->add_option("--camera-path", job->camera_path,
+                    "Render a sequence: one camera per line (the 10 numbers of --camera; '#' "
+                    "comments); output names need a frame number, as in -o frame_%04d.png");
     cmd->add_option("--size", job->size, "Image size WxH (each side 1..16384)")
         ->capture_default_str();
     cmd->add_option("--aa", job->aa, "Antialiasing: K x K samples per pixel, K in 1..16")
@@ -299,7 +347,11 @@ void add_render_command(CLI::App& app) {
         if (threads->count() > 0 && job->threads < 1) throw Error("--threads must be at least 1");
         // No silent no-op: a render that asks for nothing writes the image and says where.
         const bool defaulted = has_no_output(*job);
-        if (defaulted) job->image = default_image_path(job->scene);
+        if (defaulted) {
+            job->image = default_image_path(job->scene);
+            if (!job->camera_path.empty())
+                job->image.insert(job->image.size() - 4, "_%04d");  // before ".png"
+        }
         run_render_job(*job);
         if (defaulted && mpi_rank() == 0) std::printf("rtt: wrote %s (choose outputs with -o, --hits, --shadows, --stats)\n", job->image.c_str());
     });

@@ -14,6 +14,7 @@ namespace rtt::cli {
 struct RenderJob {
     SceneArgs scene;
     std::string camera;  ///< "px,py,pz,tx,ty,tz,ux,uy,uz,fovy"; empty = scene's or default.
+    std::string camera_path;  ///< --camera-path FILE: one camera per line, a frame each.
     std::string size = "640x480";  ///< "WxH".
     int aa = 1;
     std::vector<std::string> lights;  ///< "x,y,z" each; empty = scene's lights.
