@@ -15,12 +15,15 @@
 // picked (pside). Traversal visits both children of a plane the ray crosses within a margin, so
 // a hit exactly on a split plane is always found.
 //
-// Large subtrees are built in parallel with oneTBB. The tree does not depend on the thread
-// count: every decision is made from the node's own data, and the children's node arrays are
-// concatenated in one fixed order (below child first, pbrt's layout).
+// Large subtrees are built in parallel with oneTBB, and the nodes above them sweep and split
+// their three axes in parallel. The tree does not depend on the thread count: every decision is
+// made from the node's own data, and the children's node arrays are concatenated in one fixed
+// order (below child first, pbrt's layout).
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_sort.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
@@ -31,6 +34,7 @@
 #include "kdtree/kd_clip.h"
 #include "kdtree/kd_events.h"
 #include "kdtree/kd_sah.h"
+#include "kdtree/kd_subtree.h"
 #include "rtt/error.h"
 #include "rtt/kdtree.h"
 #include "rtt/memory_budget.h"
@@ -43,6 +47,8 @@ using kd::EventList;
 using kd::EventType;
 using kd::NodeEvents;
 using kd::SplitChoice;
+using kd::Subtree;
+using kd::too_large;
 
 enum Side : uint8_t { both, left_only, right_only };
 
@@ -59,33 +65,6 @@ constexpr double reference_budget = 32.0;
 constexpr size_t parallel_min_triangles = 4096;
 constexpr int parallel_max_depth = 8;
 
-[[noreturn]] void too_large(const std::string& what) {
-    throw Error("scene too large for the kd-tree: " + what);
-}
-
-/// Nodes and leaf lists of one subtree. Above-child indices and leaf offsets are relative to
-/// the start of these arrays until the subtree is appended to its parent's.
-struct Subtree {
-    std::vector<KdNode> nodes;
-    std::vector<uint32_t> leaf_triangles;
-
-    void append(const Subtree& other) {
-        const size_t node_base = nodes.size(), leaf_base = leaf_triangles.size();
-        if (node_base + other.nodes.size() > KdNode::max_index) too_large("more than 2^30 nodes");
-        if (leaf_base + other.leaf_triangles.size() > UINT32_MAX)
-            too_large("more than 2^32 leaf references");
-        for (KdNode n : other.nodes) {
-            const bool ok = n.is_leaf()
-                                ? n.set_leaf(n.first_triangle() + uint32_t(leaf_base), n.triangle_count())
-                                : n.set_inner(n.axis(), n.split, n.above_child() + uint32_t(node_base));
-            if (!ok) too_large("node index out of range");
-            nodes.push_back(n);
-        }
-        leaf_triangles.insert(leaf_triangles.end(), other.leaf_triangles.begin(),
-                              other.leaf_triangles.end());
-    }
-};
-
 class Builder {
 public:
     Builder(std::span<const TriangleVerts> triangles, const KdBuildConfig& config, int max_depth)
@@ -96,11 +75,8 @@ public:
     void build(NodeEvents&& ev, const Bbox3f& box, int depth, double budget, Subtree& out) {
         const size_t n = ev.triangles;
         SplitChoice split;
-        if (n > size_t(config_.max_leaf_size) && depth < max_depth_)
-            split = kd::find_split(ev, box, config_);
-        const double children = double(split.left_count) + double(split.right_count);
-        if (split.axis < 0 || split.cost >= double(config_.isect_cost) * double(n) ||
-            children > budget) {
+        if (n > size_t(config_.max_leaf_size) && depth < max_depth_) split = find_split(ev, box);
+        if (!kd::takes_split(split, n, budget, config_)) {
             make_leaf(ev, out);
             ev = NodeEvents{};  // release now, not when the parent returns
             return;
@@ -111,46 +87,43 @@ public:
         NodeEvents left, right;
         split_events(std::move(ev), split, left_box, right_box, left, right);
 
-        // Each child's share of the budget follows its share of the references, so every node
-        // keeps budget >= its triangle count and the leaves hold at most the root's budget.
-        const double budget_left = budget * double(split.left_count) / children;
-        const double budget_right = budget * double(split.right_count) / children;
-        const size_t index = out.nodes.size();
-        out.nodes.emplace_back();
+        const double budget_left = kd::child_budget(budget, split, true);
+        const double budget_right = kd::child_budget(budget, split, false);
+        const size_t index = out.begin_inner();
         if (n >= parallel_min_triangles && depth < parallel_max_depth) {
             Subtree above;
             tbb::parallel_invoke(
                 [&] { build(std::move(left), left_box, depth + 1, budget_left, out); },
                 [&] { build(std::move(right), right_box, depth + 1, budget_right, above); });
-            set_inner(out, index, split, out.nodes.size());
+            out.end_inner(index, split);
             out.append(above);
         } else {
             build(std::move(left), left_box, depth + 1, budget_left, out);
-            set_inner(out, index, split, out.nodes.size());
+            out.end_inner(index, split);
             build(std::move(right), right_box, depth + 1, budget_right, out);
         }
     }
 
 private:
-    static void set_inner(Subtree& out, size_t index, const SplitChoice& split, size_t above) {
-        if (above > KdNode::max_index || !out.nodes[index].set_inner(split.axis, split.pos, uint32_t(above)))
-            too_large("more than 2^30 nodes");
+    /// The three axes' sweeps, in parallel in large nodes (the top of the tree).
+    SplitChoice find_split(const NodeEvents& ev, const Bbox3f& box) const {
+        if (ev.triangles < parallel_min_triangles) return kd::find_split(ev, box, config_);
+        SplitChoice per_axis[3];
+        tbb::parallel_for(0, 3, [&](int a) {
+            per_axis[a] = kd::find_split_on_axis(a, ev.axis[a], ev.triangles, box, config_);
+        });
+        return kd::better(kd::better(per_axis[0], per_axis[1]), per_axis[2]);
     }
 
     static void make_leaf(const NodeEvents& ev, Subtree& out) {
         const size_t first = out.leaf_triangles.size();
-        if (first + ev.triangles > UINT32_MAX) too_large("more than 2^32 leaf references");
         for (const Event& e : ev.axis[0])
             if (e.type() != EventType::end) out.leaf_triangles.push_back(e.tri());
-        std::sort(out.leaf_triangles.begin() + std::ptrdiff_t(first), out.leaf_triangles.end());
-        KdNode leaf;
-        if (!leaf.set_leaf(uint32_t(first), uint32_t(ev.triangles)))
-            too_large("a leaf with more than 2^30 triangles");
-        out.nodes.push_back(leaf);
+        out.add_leaf(first);
     }
 
     /// Per-thread working memory, reused from node to node. No node's split runs interleaved
-    /// with another's on one thread (nothing in split_events waits on tasks), so one is enough.
+    /// with another's on one thread (split_events waits only on its own, isolated tasks).
     struct Scratch {
         std::vector<uint8_t> side;  ///< Side of each triangle, indexed by triangle; only entries
                                     ///< of the current node's triangles are meaningful.
@@ -205,8 +178,8 @@ private:
         left.triangles = only_left + clipped_left.size();
         right.triangles = only_right + clipped_right.size();
 
-        for (int a = 0; a < 3; ++a) {
-            auto& [fresh_left, fresh_right] = scratch.fresh;
+        const auto split_on_axis = [&](int a, EventList (&fresh)[2]) {
+            auto& [fresh_left, fresh_right] = fresh;
             events_on_axis(clipped_left, a, fresh_left);
             events_on_axis(clipped_right, a, fresh_right);
             EventList& l = left.axis[a];
@@ -228,6 +201,18 @@ private:
             l.insert(l.end(), fl, fresh_left.end());
             r.insert(r.end(), fr, fresh_right.end());
             EventList().swap(ev.axis[a]);
+        };
+        if (ev.triangles < parallel_min_triangles) {
+            for (int a = 0; a < 3; ++a) split_on_axis(a, scratch.fresh);
+        } else {
+            // The top of the tree: one task per axis. Isolated: while it waits, this thread
+            // must not start another node's split, which would overwrite its scratch.
+            tbb::this_task_arena::isolate([&] {
+                tbb::parallel_for(0, 3, [&](int a) {
+                    EventList fresh[2];
+                    split_on_axis(a, fresh);
+                });
+            });
         }
     }
 
