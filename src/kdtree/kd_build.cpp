@@ -1,29 +1,20 @@
-// O(N log N) SAH kd-tree build after Wald & Havran, "On building fast kd-trees for ray tracing,
-// and on doing that in O(N log N)", IEEE Symposium on Interactive Ray Tracing 2006.
+// The kd-tree build: binned SAH from the root down over all cores, the exact Wald–Havran sweep
+// with perfect splits below (Shevtsov, Soupikov and Kapustin 2007; Wald and Havran 2006).
 //
-// The events of all triangles are sorted once. At each node one sweep per axis finds the best
-// SAH split (kd_sah.cpp); the node's sorted event lists are then split in linear time: each
-// triangle is classified left-only, right-only or both from the events of the split axis;
-// left-only and right-only events keep their order in the children; triangles on both sides are
-// clipped to each child box (perfect splits, kd_clip.cpp), and only their new events are sorted
-// and merged in. Sorting O(sqrt N) straddling triangles per node keeps the build O(N log N).
+// A node of more than sweep_min_triangles triangles holds its triangles with the bounds of
+// their part inside it (kd::TriBox) and picks its plane among kd::binned_planes per axis
+// (kd_binned_sah.cpp): one parallel pass, no sorted event lists to keep up. Its triangles are
+// split in parallel, straddlers clipped to each child (perfect splits, as below). Smaller
+// nodes are handed to the sweep (kd_sweep_build.cpp), which sorts their events once and
+// places its planes exactly; so does a top node whose planes find no split worth taking,
+// since the sweep may still find one the bins miss, or makes the leaf.
 //
-// What the tree guarantees (the traversal in trace/trace_ray.h relies on it): every point of
-// every triangle lies in the closed box of at least one leaf that references the triangle, and
-// every leaf whose box interior the triangle meets references it. A triangle that only touches a
-// split plane goes to the side it lies on; a triangle lying in the plane goes to the side the SAH
-// picked (pside). Traversal visits both children of a plane the ray crosses within a margin, so
-// a hit exactly on a split plane is always found.
-//
-// Large subtrees are built in parallel with oneTBB, and the nodes above them sweep and split
-// their three axes in parallel. The tree does not depend on the thread count: every decision is
-// made from the node's own data, and the children's node arrays are concatenated in one fixed
-// order (below child first, pbrt's layout).
-#include <tbb/enumerable_thread_specific.h>
+// The tree does not depend on the thread count: bins hold integer counts, the sweep sorts its
+// events in a total order, leaf lists are sorted, and subtrees are concatenated in one fixed
+// order (below child first).
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
-#include <tbb/parallel_sort.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
@@ -31,10 +22,12 @@
 #include <string>
 
 #include "geom/triangle.h"
+#include "kdtree/kd_binned_sah.h"
 #include "kdtree/kd_clip.h"
 #include "kdtree/kd_events.h"
 #include "kdtree/kd_sah.h"
 #include "kdtree/kd_subtree.h"
+#include "kdtree/kd_sweep_build.h"
 #include "rtt/error.h"
 #include "rtt/kdtree.h"
 #include "rtt/memory_budget.h"
@@ -42,15 +35,9 @@
 namespace rtt {
 namespace {
 
-using kd::Event;
-using kd::EventList;
-using kd::EventType;
-using kd::NodeEvents;
 using kd::SplitChoice;
 using kd::Subtree;
-using kd::too_large;
-
-enum Side : uint8_t { both, left_only, right_only };
+using kd::TriBox;
 
 /// Leaf references the whole tree may hold, per triangle. The SAH alone does not bound them:
 /// n thin triangles along x crossing n along y in one plane make every split cut through one
@@ -60,180 +47,99 @@ enum Side : uint8_t { both, left_only, right_only };
 /// share of this budget (tests/limits_test.cpp).
 constexpr double reference_budget = 32.0;
 
-/// Nodes with at least this many triangles, above this depth, build their two children in
-/// parallel (2^8 tasks are plenty; each parallel level costs one copy of the above subtree).
-constexpr size_t parallel_min_triangles = 4096;
-constexpr int parallel_max_depth = 8;
+/// Nodes with more triangles split on binned planes. Below, the sweep's exact planes are worth
+/// their cost: the SAH cost of the tree stays within 1 % of an all-sweep build
+/// (docs/benchmarks.md, "kd-tree build").
+constexpr size_t sweep_min_triangles = 8192;
 
-class Builder {
+/// Triangles per task when a top node bins or splits its triangles.
+constexpr size_t grain = 4096;
+
+class TopBuilder {
 public:
-    Builder(std::span<const TriangleVerts> triangles, const KdBuildConfig& config, int max_depth)
-        : triangles_(triangles), config_(config), max_depth_(max_depth) {}
+    TopBuilder(std::span<const TriangleVerts> triangles, const KdBuildConfig& config, int max_depth)
+        : triangles_(triangles), config_(config), max_depth_(max_depth),
+          sweep_(triangles, config, max_depth) {}
 
-    /// Builds the subtree of a node (consuming its events) at the end of `out`. `budget` is the
-    /// number of leaf references the subtree may hold (see reference_budget).
-    void build(NodeEvents&& ev, const Bbox3f& box, int depth, double budget, Subtree& out) {
-        const size_t n = ev.triangles;
+    /// Builds the subtree of the node `box` holding `items` (consumed) at the end of `out`.
+    void build(std::vector<TriBox>&& items, const Bbox3f& box, int depth, double budget,
+               Subtree& out) {
+        const size_t n = items.size();
         SplitChoice split;
-        if (n > size_t(config_.max_leaf_size) && depth < max_depth_) split = find_split(ev, box);
+        if (n > sweep_min_triangles && n > size_t(config_.max_leaf_size) && depth < max_depth_)
+            split = kd::find_binned_split(items, box, config_);
         if (!kd::takes_split(split, n, budget, config_)) {
-            make_leaf(ev, out);
-            ev = NodeEvents{};  // release now, not when the parent returns
+            sweep_.build(items, box, depth, budget, out);
             return;
         }
         Bbox3f left_box = box, right_box = box;
         left_box.hi[split.axis] = split.pos;
         right_box.lo[split.axis] = split.pos;
-        NodeEvents left, right;
-        split_events(std::move(ev), split, left_box, right_box, left, right);
+        std::vector<TriBox> left, right;
+        partition(items, split, left_box, right_box, left, right);
+        std::vector<TriBox>().swap(items);  // release now, not when the children return
 
         const double budget_left = kd::child_budget(budget, split, true);
         const double budget_right = kd::child_budget(budget, split, false);
         const size_t index = out.begin_inner();
-        if (n >= parallel_min_triangles && depth < parallel_max_depth) {
-            Subtree above;
-            tbb::parallel_invoke(
-                [&] { build(std::move(left), left_box, depth + 1, budget_left, out); },
-                [&] { build(std::move(right), right_box, depth + 1, budget_right, above); });
-            out.end_inner(index, split);
-            out.append(above);
-        } else {
-            build(std::move(left), left_box, depth + 1, budget_left, out);
-            out.end_inner(index, split);
-            build(std::move(right), right_box, depth + 1, budget_right, out);
-        }
+        Subtree above;
+        tbb::parallel_invoke(
+            [&] { build(std::move(left), left_box, depth + 1, budget_left, out); },
+            [&] { build(std::move(right), right_box, depth + 1, budget_right, above); });
+        out.end_inner(index, split);
+        out.append(above);
     }
 
 private:
-    /// The three axes' sweeps, in parallel in large nodes (the top of the tree).
-    SplitChoice find_split(const NodeEvents& ev, const Bbox3f& box) const {
-        if (ev.triangles < parallel_min_triangles) return kd::find_split(ev, box, config_);
-        SplitChoice per_axis[3];
-        tbb::parallel_for(0, 3, [&](int a) {
-            per_axis[a] = kd::find_split_on_axis(a, ev.axis[a], ev.triangles, box, config_);
-        });
-        return kd::better(kd::better(per_axis[0], per_axis[1]), per_axis[2]);
-    }
-
-    static void make_leaf(const NodeEvents& ev, Subtree& out) {
-        const size_t first = out.leaf_triangles.size();
-        for (const Event& e : ev.axis[0])
-            if (e.type() != EventType::end) out.leaf_triangles.push_back(e.tri());
-        out.add_leaf(first);
-    }
-
-    /// Per-thread working memory, reused from node to node. No node's split runs interleaved
-    /// with another's on one thread (split_events waits only on its own, isolated tasks).
-    struct Scratch {
-        std::vector<uint8_t> side;  ///< Side of each triangle, indexed by triangle; only entries
-                                    ///< of the current node's triangles are meaningful.
-        std::vector<std::pair<uint32_t, Bbox3f>> clipped[2];  ///< Straddlers clipped per child.
-        EventList fresh[2];                                   ///< Their events on one axis.
-    };
-
-    /// Wald & Havran 2006, section 5.3: distributes the node's events to the children in
-    /// linear time, plus sorting the new events of the triangles that straddle the plane.
-    void split_events(NodeEvents&& ev, const SplitChoice& split, const Bbox3f& left_box,
-                      const Bbox3f& right_box, NodeEvents& left, NodeEvents& right) {
-        Scratch& scratch = scratch_.local();
-        std::vector<uint8_t>& side = scratch.side;
-        if (side.size() < triangles_.size()) side.assign(triangles_.size(), both);
-
+    /// The children's triangles, with the sweep's rule (kd_sweep_build.cpp): a triangle that
+    /// only touches the plane goes to the side it lies on, one lying in it to the side the SAH
+    /// picked, and one crossing it is clipped to each child (perfect splits).
+    void partition(const std::vector<TriBox>& items, const SplitChoice& split,
+                   const Bbox3f& left_box, const Bbox3f& right_box, std::vector<TriBox>& left,
+                   std::vector<TriBox>& right) const {
+        const int a = split.axis;
         const float p = split.pos;
-        const EventList& split_axis = ev.axis[split.axis];
-        for (const Event& e : split_axis) side[e.tri()] = both;
-        for (const Event& e : split_axis) {
-            switch (e.type()) {
-                case EventType::end:
-                    if (e.pos <= p) side[e.tri()] = left_only;
-                    break;
-                case EventType::start:
-                    if (e.pos >= p) side[e.tri()] = right_only;
-                    break;
-                case EventType::planar:
-                    side[e.tri()] = e.pos < p || (e.pos == p && split.planar_left) ? left_only : right_only;
-                    break;
-            }
-        }
-
-        // Straddling triangles: clip them to each child (perfect splits); a child they do not
-        // touch drops them.
-        auto& [clipped_left, clipped_right] = scratch.clipped;
-        clipped_left.clear();
-        clipped_right.clear();
-        size_t only_left = 0, only_right = 0;
-        Bbox3f b;
-        for (const Event& e : split_axis) {
-            if (e.type() == EventType::end) continue;
-            const uint32_t t = e.tri();
-            if (side[t] == left_only) {
-                ++only_left;
-            } else if (side[t] == right_only) {
-                ++only_right;
-            } else {
-                if (clip_triangle_to_box(triangles_[t], left_box, b)) clipped_left.emplace_back(t, b);
-                if (clip_triangle_to_box(triangles_[t], right_box, b)) clipped_right.emplace_back(t, b);
-            }
-        }
-        left.triangles = only_left + clipped_left.size();
-        right.triangles = only_right + clipped_right.size();
-
-        const auto split_on_axis = [&](int a, EventList (&fresh)[2]) {
-            auto& [fresh_left, fresh_right] = fresh;
-            events_on_axis(clipped_left, a, fresh_left);
-            events_on_axis(clipped_right, a, fresh_right);
-            EventList& l = left.axis[a];
-            EventList& r = right.axis[a];
-            l.reserve(2 * only_left + fresh_left.size());
-            r.reserve(2 * only_right + fresh_right.size());
-            // One pass: the parent's events, filtered by side, merged with the sorted new ones.
-            auto fl = fresh_left.begin(), fr = fresh_right.begin();
-            for (const Event& e : ev.axis[a]) {
-                const uint8_t s = side[e.tri()];
-                if (s == left_only) {
-                    while (fl != fresh_left.end() && *fl < e) l.push_back(*fl++);
-                    l.push_back(e);
-                } else if (s == right_only) {
-                    while (fr != fresh_right.end() && *fr < e) r.push_back(*fr++);
-                    r.push_back(e);
+        const size_t chunks = (items.size() + grain - 1) / grain;
+        std::vector<std::vector<TriBox>> lefts(chunks), rights(chunks);
+        tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+            std::vector<TriBox>&l = lefts[c], &r = rights[c];
+            Bbox3f b;
+            for (size_t i = c * grain; i < std::min(items.size(), (c + 1) * grain); ++i) {
+                const TriBox& t = items[i];
+                const float lo = t.box.lo[a], hi = t.box.hi[a];
+                if (lo == hi) {
+                    (lo < p || (lo == p && split.planar_left) ? l : r).push_back(t);
+                } else if (hi <= p) {
+                    l.push_back(t);
+                } else if (lo >= p) {
+                    r.push_back(t);
+                } else {
+                    if (clip_triangle_to_box(triangles_[t.tri], left_box, b)) l.push_back({b, t.tri});
+                    if (clip_triangle_to_box(triangles_[t.tri], right_box, b)) r.push_back({b, t.tri});
                 }
             }
-            l.insert(l.end(), fl, fresh_left.end());
-            r.insert(r.end(), fr, fresh_right.end());
-            EventList().swap(ev.axis[a]);
-        };
-        if (ev.triangles < parallel_min_triangles) {
-            for (int a = 0; a < 3; ++a) split_on_axis(a, scratch.fresh);
-        } else {
-            // The top of the tree: one task per axis. Isolated: while it waits, this thread
-            // must not start another node's split, which would overwrite its scratch.
-            tbb::this_task_arena::isolate([&] {
-                tbb::parallel_for(0, 3, [&](int a) {
-                    EventList fresh[2];
-                    split_on_axis(a, fresh);
-                });
-            });
-        }
+        });
+        concatenate(lefts, left);
+        concatenate(rights, right);
     }
 
-    /// The sorted events along axis `a` of triangles with the given bounds.
-    static void events_on_axis(const std::vector<std::pair<uint32_t, Bbox3f>>& boxes, int a,
-                               EventList& out) {
-        out.clear();
-        for (const auto& [t, box] : boxes) kd::append_events(out, box.lo[a], box.hi[a], t);
-        std::sort(out.begin(), out.end());
+    static void concatenate(const std::vector<std::vector<TriBox>>& parts, std::vector<TriBox>& all) {
+        size_t total = 0;
+        for (const auto& part : parts) total += part.size();
+        all.reserve(total);
+        for (const auto& part : parts) all.insert(all.end(), part.begin(), part.end());
     }
 
     std::span<const TriangleVerts> triangles_;
     const KdBuildConfig& config_;
     int max_depth_;
-    tbb::enumerable_thread_specific<Scratch> scratch_;
+    kd::SweepBuilder sweep_;
 };
 
 /// Checks what the build relies on (indices in range, finite coordinates, index fits 30 bits).
 void check_input(const Scene& scene) {
-    if (scene.triangles.size() > Event::tri_mask)
-        too_large(std::to_string(scene.triangles.size()) + " triangles, at most 2^30 - 1");
+    if (scene.triangles.size() > kd::Event::tri_mask)
+        kd::too_large(std::to_string(scene.triangles.size()) + " triangles, at most 2^30 - 1");
     require_memory(scene_memory_bytes(scene.vertices.size(), scene.triangles.size()),
                    "a kd-tree over " + std::to_string(scene.triangles.size()) + " triangles");
     for (size_t i = 0; i < scene.triangles.size(); ++i)
@@ -263,20 +169,16 @@ KdTree build_kdtree(const Scene& scene, const KdBuildConfig& config) {
     const size_t n = triangles.size();
 
     KdTree tree;
-    NodeEvents root;
-    for (int a = 0; a < 3; ++a) root.axis[a].reserve(2 * n);
-    root.triangles = n;
-    for (size_t i = 0; i < n; ++i) {
-        const Bbox3f b = triangle_bounds(triangles[i]);
-        tree.bounds.extend(b);
-        for (int a = 0; a < 3; ++a) kd::append_events(root.axis[a], b.lo[a], b.hi[a], uint32_t(i));
-    }
-    for (EventList& list : root.axis) tbb::parallel_sort(list.begin(), list.end());
+    std::vector<TriBox> items(n);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t i = r.begin(); i < r.end(); ++i) items[i] = {triangle_bounds(triangles[i]), uint32_t(i)};
+    });
+    for (const TriBox& t : items) tree.bounds.extend(t.box);
 
     const int max_depth = config.max_depth > 0 ? config.max_depth : auto_max_depth(n);
-    Builder builder(triangles, config, max_depth);
+    TopBuilder builder(triangles, config, max_depth);
     Subtree out;
-    builder.build(std::move(root), tree.bounds, 0, reference_budget * double(n), out);
+    builder.build(std::move(items), tree.bounds, 0, reference_budget * double(n), out);
     tree.nodes = std::move(out.nodes);
     tree.leaf_triangles = std::move(out.leaf_triangles);
     const double seconds =
