@@ -95,6 +95,7 @@ RenderJobResult run_render_job(const RenderJob& job) {
     const KdTree tree = build_kdtree(scene);
     out.kd_build_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count();
+    out.kd_stats = tree.stats;
     const std::unique_ptr<Tracer> tracer = make_tracer(tracer_kind, scene, tree);
     out.result = render(scene, *tracer, opt);
     const RenderResult& r = out.result;

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "rtt/kdtree.h"
 #include "rtt/render.h"
 #include "scene_args.h"
 
@@ -36,6 +37,7 @@ struct RenderJobResult {
     size_t triangles = 0;
     std::string tracer;
     double kd_build_seconds = 0;
+    KdStats kd_stats;
     RenderResult result;
 };
 

@@ -27,6 +27,16 @@ nlohmann::json kind_json(const KindStats& k) {
 
 }  // namespace
 
+std::string kd_build_phases(const KdStats& s) {
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "setup %.3f s, binned top %.3f s (%zu nodes), sweep %.3f s (%zu subtrees), "
+                  "layout %.3f s",
+                  s.setup_seconds, s.top_seconds, s.top_nodes, s.sweep_seconds, s.sweep_subtrees,
+                  s.layout_seconds);
+    return line;
+}
+
 void print_stats(std::FILE* out, const RenderJobResult& r) {
     const RenderResult& res = r.result;
     const RenderStats& s = res.stats;
@@ -34,6 +44,7 @@ void print_stats(std::FILE* out, const RenderJobResult& r) {
         out, "%s: %zu triangles, kd-tree built in %.3f s; tracer %s; %dx%d, %dx%d AA, %d threads\n",
         r.scene_label.c_str(), r.triangles, r.kd_build_seconds, r.tracer.c_str(), res.width,
         res.height, res.aa, res.aa, s.threads);
+    std::fprintf(out, "kd-tree build: %s\n", kd_build_phases(r.kd_stats).c_str());
     std::fprintf(out, "%-10s %9s %9s %12s %12s %12s %9s %9s %9s\n", "rays", "tiles", "rtt tiles",
                  "rays", "traced", "answered", "avg list", "seconds", "Mrays/s");
     const KindRow rows[] = {
@@ -65,6 +76,13 @@ void write_stats_json(const std::string& path, const RenderJob& job, const Rende
         {"threads", s.threads},
         {"max_depth", job.max_depth},
         {"kd_build_seconds", r.kd_build_seconds},
+        {"kd_build_phases",
+         {{"setup_seconds", r.kd_stats.setup_seconds},
+          {"top_seconds", r.kd_stats.top_seconds},
+          {"top_nodes", r.kd_stats.top_nodes},
+          {"sweep_seconds", r.kd_stats.sweep_seconds},
+          {"sweep_subtrees", r.kd_stats.sweep_subtrees},
+          {"layout_seconds", r.kd_stats.layout_seconds}}},
         {"wall_seconds", s.wall_seconds},
         {"primary", kind_json(s.primary)},
         {"shadow", kind_json(s.shadow)},

@@ -15,10 +15,12 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
+#include <tbb/partitioner.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include "geom/triangle.h"
@@ -55,39 +57,56 @@ constexpr size_t sweep_min_triangles = 8192;
 /// Triangles per task when a top node bins or splits its triangles.
 constexpr size_t grain = 4096;
 
+/// The binned top levels: inner nodes down to the subtrees the sweep builds.
+struct TopNode {
+    SplitChoice split;  ///< axis < 0: a sweep subtree
+    std::unique_ptr<TopNode> below, above;
+    // A sweep subtree: its node's box and triangles, then the subtree built from them.
+    std::vector<TriBox> items;
+    Bbox3f box;
+    int depth = 0;
+    double budget = 0;
+    Subtree built;
+};
+
 class TopBuilder {
 public:
     TopBuilder(std::span<const TriangleVerts> triangles, const KdBuildConfig& config, int max_depth)
-        : triangles_(triangles), config_(config), max_depth_(max_depth),
-          sweep_(triangles, config, max_depth) {}
+        : triangles_(triangles), config_(config), max_depth_(max_depth) {}
 
-    /// Builds the subtree of the node `box` holding `items` (consumed) at the end of `out`.
-    void build(std::vector<TriBox>&& items, const Bbox3f& box, int depth, double budget,
-               Subtree& out) {
+    /// The top levels over the node `box` holding `items` (consumed), in parallel.
+    std::unique_ptr<TopNode> build(std::vector<TriBox>&& items, const Bbox3f& box, int depth,
+                                   double budget) const {
+        auto node = std::make_unique<TopNode>();
         const size_t n = items.size();
-        SplitChoice split;
         if (n > sweep_min_triangles && n > size_t(config_.max_leaf_size) && depth < max_depth_)
-            split = kd::find_binned_split(items, box, config_);
-        if (!kd::takes_split(split, n, budget, config_)) {
-            sweep_.build(items, box, depth, budget, out);
-            return;
+            node->split = kd::find_binned_split(items, box, config_);
+        // Without a split worth taking the sweep decides: it may find a plane the bins miss.
+        if (!kd::takes_split(node->split, n, budget, config_)) {
+            node->split = {};
+            node->items = std::move(items);
+            node->box = box;
+            node->depth = depth;
+            node->budget = budget;
+            return node;
         }
+        const SplitChoice& split = node->split;
         Bbox3f left_box = box, right_box = box;
         left_box.hi[split.axis] = split.pos;
         right_box.lo[split.axis] = split.pos;
         std::vector<TriBox> left, right;
         partition(items, split, left_box, right_box, left, right);
         std::vector<TriBox>().swap(items);  // release now, not when the children return
-
-        const double budget_left = kd::child_budget(budget, split, true);
-        const double budget_right = kd::child_budget(budget, split, false);
-        const size_t index = out.begin_inner();
-        Subtree above;
         tbb::parallel_invoke(
-            [&] { build(std::move(left), left_box, depth + 1, budget_left, out); },
-            [&] { build(std::move(right), right_box, depth + 1, budget_right, above); });
-        out.end_inner(index, split);
-        out.append(above);
+            [&] {
+                node->below = build(std::move(left), left_box, depth + 1,
+                                    kd::child_budget(budget, split, true));
+            },
+            [&] {
+                node->above = build(std::move(right), right_box, depth + 1,
+                                    kd::child_budget(budget, split, false));
+            });
+        return node;
     }
 
 private:
@@ -133,8 +152,60 @@ private:
     std::span<const TriangleVerts> triangles_;
     const KdBuildConfig& config_;
     int max_depth_;
-    kd::SweepBuilder sweep_;
 };
+
+/// The sweep subtrees under `node`, below child first.
+void collect_subtrees(TopNode& node, std::vector<TopNode*>& out) {
+    if (node.split.axis < 0) {
+        out.push_back(&node);
+        return;
+    }
+    collect_subtrees(*node.below, out);
+    collect_subtrees(*node.above, out);
+}
+
+/// Lays the tree out in one array in depth-first order, below child first: the top's inner
+/// nodes at their places, each sweep subtree copied once (in parallel) and rebased.
+void lay_out(TopNode& root, KdTree& tree) {
+    struct Placed {
+        Subtree* subtree;
+        size_t node_base, leaf_base;
+    };
+    std::vector<Placed> placed;
+    std::vector<std::pair<size_t, KdNode>> inner;  // the top's inner nodes and their places
+    size_t nodes = 0, refs = 0;
+    const auto place = [&](const auto& self, TopNode& node) -> void {
+        if (node.split.axis < 0) {
+            placed.push_back({&node.built, nodes, refs});
+            nodes += node.built.nodes.size();
+            refs += node.built.leaf_triangles.size();
+            return;
+        }
+        const size_t index = nodes++;
+        self(self, *node.below);
+        KdNode n;
+        if (nodes > KdNode::max_index || !n.set_inner(node.split.axis, node.split.pos, uint32_t(nodes)))
+            kd::too_large("more than 2^30 nodes");
+        inner.emplace_back(index, n);
+        self(self, *node.above);
+    };
+    place(place, root);
+    if (nodes > KdNode::max_index) kd::too_large("more than 2^30 nodes");
+    if (refs > UINT32_MAX) kd::too_large("more than 2^32 leaf references");
+
+    tree.nodes.resize(nodes);
+    tree.leaf_triangles.resize(refs);
+    for (const auto& [index, n] : inner) tree.nodes[index] = n;
+    tbb::parallel_for(size_t(0), placed.size(), [&](size_t i) {
+        const Placed& p = placed[i];
+        std::transform(p.subtree->nodes.begin(), p.subtree->nodes.end(),
+                       tree.nodes.begin() + std::ptrdiff_t(p.node_base),
+                       [&](KdNode n) { return kd::rebased(n, p.node_base, p.leaf_base); });
+        std::copy(p.subtree->leaf_triangles.begin(), p.subtree->leaf_triangles.end(),
+                  tree.leaf_triangles.begin() + std::ptrdiff_t(p.leaf_base));
+        *p.subtree = Subtree{};
+    });
+}
 
 /// Checks what the build relies on (indices in range, finite coordinates, index fits 30 bits).
 void check_input(const Scene& scene) {
@@ -164,7 +235,8 @@ int auto_max_depth(size_t n) {
 KdTree build_kdtree(const Scene& scene, const KdBuildConfig& config) {
     config.validate();
     check_input(scene);
-    const auto start = std::chrono::steady_clock::now();
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
     const std::vector<TriangleVerts> triangles = gather_triangles(scene);
     const size_t n = triangles.size();
 
@@ -174,19 +246,45 @@ KdTree build_kdtree(const Scene& scene, const KdBuildConfig& config) {
         for (size_t i = r.begin(); i < r.end(); ++i) items[i] = {triangle_bounds(triangles[i]), uint32_t(i)};
     });
     for (const TriBox& t : items) tree.bounds.extend(t.box);
+    const auto setup_done = Clock::now();
 
     const int max_depth = config.max_depth > 0 ? config.max_depth : auto_max_depth(n);
-    TopBuilder builder(triangles, config, max_depth);
-    Subtree out;
-    builder.build(std::move(items), tree.bounds, 0, reference_budget * double(n), out);
-    tree.nodes = std::move(out.nodes);
-    tree.leaf_triangles = std::move(out.leaf_triangles);
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const std::unique_ptr<TopNode> top = TopBuilder(triangles, config, max_depth)
+                                             .build(std::move(items), tree.bounds, 0,
+                                                    reference_budget * double(n));
+    std::vector<TopNode*> subtrees;
+    collect_subtrees(*top, subtrees);
+    const auto top_done = Clock::now();
+
+    // Largest first, so that no big subtree starts last (most hold at most sweep_min_triangles;
+    // a big one is a node the bins found no split for).
+    std::stable_sort(subtrees.begin(), subtrees.end(), [](const TopNode* a, const TopNode* b) {
+        return a->items.size() > b->items.size();
+    });
+    kd::SweepBuilder sweep(triangles, config, max_depth);
+    tbb::parallel_for(
+        size_t(0), subtrees.size(),
+        [&](size_t i) {
+            TopNode& t = *subtrees[i];
+            sweep.build(t.items, t.box, t.depth, t.budget, t.built);
+            std::vector<TriBox>().swap(t.items);
+        },
+        tbb::simple_partitioner());
+    const auto sweep_done = Clock::now();
+
+    lay_out(*top, tree);
+    const auto end = Clock::now();
+    const double seconds = std::chrono::duration<double>(end - start).count();
 
     tree.stats = compute_stats(tree, config);
     tree.stats.triangles = n;
     tree.stats.build_seconds = seconds;
+    tree.stats.setup_seconds = std::chrono::duration<double>(setup_done - start).count();
+    tree.stats.top_seconds = std::chrono::duration<double>(top_done - setup_done).count();
+    tree.stats.sweep_seconds = std::chrono::duration<double>(sweep_done - top_done).count();
+    tree.stats.layout_seconds = std::chrono::duration<double>(end - sweep_done).count();
+    tree.stats.top_nodes = subtrees.size() - 1;  // a binary tree's inner nodes
+    tree.stats.sweep_subtrees = subtrees.size();
     return tree;
 }
 

@@ -32,4 +32,7 @@ struct Subtree {
     void append(const Subtree& other);
 };
 
+/// A node of a subtree placed at `node_base` in the tree, its leaf list at `leaf_base`.
+KdNode rebased(KdNode n, size_t node_base, size_t leaf_base);
+
 }  // namespace rtt::kd
