@@ -1,4 +1,4 @@
-// SAH kd-tree build time (Wald & Havran 2006, O(N log N), perfect splits) on generated meshes
+// SAH kd-tree build time (binned top levels, Wald & Havran sweep below) on generated meshes
 // of 10k, 100k and 1M triangles: a tessellated bumpy sphere and a soup of small random
 // triangles, with one thread and with all of them (oneTBB; the tree is the same either way).
 //

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "geom/triangle.h"
+#include "kdtree/kd_binned_sah.h"
 #include "kdtree/kd_clip.h"
 #include "cli_values.h"
 #include "rtt/camera.h"
@@ -518,6 +519,54 @@ TEST(KdClip, TouchingAndAxisAlignedCases) {
     EXPECT_EQ(out.lo, (Vec3f{0, 0.5f, 0.5f}));
     EXPECT_EQ(out.hi, (Vec3f{1, 0.5f, 0.5f}));
     EXPECT_TRUE(clip_triangle_to_box({{1, 0.25f, 0}, {1, 0.25f, 0}, {1, 0.25f, 0}}, box, out));
+}
+
+TEST(KdBinnedSah, CountsAtTheChosenPlaneAreExactAndNoPlaneIsCheaper) {
+    // Bounds on a 1/256 grid (the planes of a box [0, 1] x [0, 2] x [0, 4] lie exactly on it),
+    // a third of them flat: the counts at a plane, with ties and flat triangles in the plane,
+    // must be the sweep's.
+    const Bbox3f box{{0, 0, 0}, {1, 2, 4}};
+    const KdBuildConfig config;
+    std::mt19937 rng(21);
+    for (int round = 0; round < 10; ++round) {
+        std::vector<kd::TriBox> items(3000 + 500 * size_t(round));
+        std::uniform_int_distribution<int> cell(0, 255), width(0, 40 * (round + 1));
+        for (size_t i = 0; i < items.size(); ++i) {
+            items[i].tri = uint32_t(i);
+            for (int a = 0; a < 3; ++a) {
+                const float unit = box.hi[a] / 256.f;
+                const int lo = cell(rng), hi = i % 3 == 0 ? lo : std::min(256, lo + width(rng));
+                items[i].box.lo[a] = float(lo) * unit;
+                items[i].box.hi[a] = float(hi) * unit;
+            }
+        }
+        const kd::SplitChoice split = kd::find_binned_split(items, box, config);
+        ASSERT_GE(split.axis, 0);
+        // Brute force over every plane of every axis: the sweep's counts and costs.
+        double cheapest = pos_inf;
+        bool seen = false;
+        for (int a = 0; a < 3; ++a) {
+            const kd::AxisCost cost(a, box, items.size(), config);
+            for (int k = 1; k <= kd::binned_planes; ++k) {
+                const float p = float(double(box.hi[a]) * k / (kd::binned_planes + 1));
+                size_t below = 0, above = 0, planar = 0;
+                for (const kd::TriBox& t : items) {
+                    below += t.box.lo[a] < p;
+                    above += t.box.hi[a] > p;
+                    planar += t.box.lo[a] == p && t.box.hi[a] == p;
+                }
+                cheapest = std::min({cheapest, cost(p, below + planar, above),
+                                     cost(p, below, above + planar)});
+                if (a == split.axis && p == split.pos) {
+                    seen = true;
+                    EXPECT_EQ(split.left_count, below + (split.planar_left ? planar : 0));
+                    EXPECT_EQ(split.right_count, above + (split.planar_left ? 0 : planar));
+                }
+            }
+        }
+        EXPECT_TRUE(seen) << "the split lies on a binned plane";
+        EXPECT_EQ(split.cost, cheapest);
+    }
 }
 
 TEST(KdTree, EmptyAndTinyScenes) {

@@ -5,6 +5,7 @@
 #include "commands.h"
 #include "rtt/kdtree.h"
 #include "scene_args.h"
+#include "stats_report.h"
 
 namespace rtt::cli {
 
@@ -29,6 +30,7 @@ void add_info_command(CLI::App& app) {
         std::printf("triangle references           %zu\n", s.triangle_references);
         std::printf("SAH cost                      %.2f\n", s.sah_cost);
         std::printf("build time                    %.3f s\n", s.build_seconds);
+        std::printf("build phases                  %s\n", kd_build_phases(s).c_str());
         std::printf("memory                        %.2f MiB\n",
                     double(s.memory_bytes) / (1024.0 * 1024.0));
     });

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "rtt/kdtree.h"
 #include "rtt/render.h"
 #include "mpi_render.h"
 #include "scene_args.h"
@@ -40,6 +41,7 @@ struct RenderJobResult {
     size_t input_warnings = 0;  ///< Scene::warning_count of the loaded scene.
     std::string tracer;
     double kd_build_seconds = 0;
+    KdStats kd_stats;
     RenderResult result;
     std::vector<RankStats> ranks;  ///< Under mpirun (on rank 0): what each rank did.
 };

@@ -27,6 +27,16 @@ nlohmann::json kind_json(const KindStats& k) {
 
 }  // namespace
 
+std::string kd_build_phases(const KdStats& s) {
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "setup %.3f s, binned top %.3f s (%zu nodes), sweep %.3f s (%zu subtrees), "
+                  "layout %.3f s",
+                  s.setup_seconds, s.top_seconds, s.top_nodes, s.sweep_seconds, s.sweep_subtrees,
+                  s.layout_seconds);
+    return line;
+}
+
 void print_stats(std::FILE* out, const RenderJobResult& r) {
     const RenderResult& res = r.result;
     const RenderStats& s = res.stats;
@@ -37,6 +47,7 @@ void print_stats(std::FILE* out, const RenderJobResult& r) {
     if (r.input_warnings)
         std::fprintf(out, "input warnings: %zu (skipped or repaired input, first ones on stderr)\n",
                      r.input_warnings);
+    std::fprintf(out, "kd-tree build: %s\n", kd_build_phases(r.kd_stats).c_str());
     std::fprintf(out, "%-10s %9s %9s %12s %12s %12s %9s %9s %9s\n", "rays", "tiles", "rtt tiles",
                  "rays", "traced", "answered", "avg list", "seconds", "Mrays/s");
     const KindRow rows[] = {
@@ -72,6 +83,13 @@ void write_stats_json(const std::string& path, const RenderJob& job, const Rende
         {"threads", s.threads},
         {"max_depth", job.max_depth},
         {"kd_build_seconds", r.kd_build_seconds},
+        {"kd_build_phases",
+         {{"setup_seconds", r.kd_stats.setup_seconds},
+          {"top_seconds", r.kd_stats.top_seconds},
+          {"top_nodes", r.kd_stats.top_nodes},
+          {"sweep_seconds", r.kd_stats.sweep_seconds},
+          {"sweep_subtrees", r.kd_stats.sweep_subtrees},
+          {"layout_seconds", r.kd_stats.layout_seconds}}},
         {"wall_seconds", s.wall_seconds},
         {"primary", kind_json(s.primary)},
         {"shadow", kind_json(s.shadow)},

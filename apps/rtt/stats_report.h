@@ -8,6 +8,9 @@
 
 namespace rtt::cli {
 
+/// One line: the kd-tree build's phases and their wall seconds (KdStats).
+std::string kd_build_phases(const KdStats& s);
+
 /// Writes a table: one row per ray kind (primary, shadow, secondary) with tiles, RTT tiles,
 /// rays, traced, answered, average relevant-list length, tracer seconds and Mrays/s.
 void print_stats(std::FILE* out, const RenderJobResult& r);

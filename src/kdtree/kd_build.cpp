@@ -1,36 +1,35 @@
-// O(N log N) SAH kd-tree build after Wald & Havran, "On building fast kd-trees for ray tracing,
-// and on doing that in O(N log N)", IEEE Symposium on Interactive Ray Tracing 2006.
+// The kd-tree build: binned SAH from the root down over all cores, the exact Wald–Havran sweep
+// with perfect splits below (Shevtsov, Soupikov and Kapustin 2007; Wald and Havran 2006).
 //
-// The events of all triangles are sorted once. At each node one sweep per axis finds the best
-// SAH split (kd_sah.cpp); the node's sorted event lists are then split in linear time: each
-// triangle is classified left-only, right-only or both from the events of the split axis;
-// left-only and right-only events keep their order in the children; triangles on both sides are
-// clipped to each child box (perfect splits, kd_clip.cpp), and only their new events are sorted
-// and merged in. Sorting O(sqrt N) straddling triangles per node keeps the build O(N log N).
+// A node of more than sweep_min_triangles triangles holds its triangles with the bounds of
+// their part inside it (kd::TriBox) and picks its plane among kd::binned_planes per axis
+// (kd_binned_sah.cpp): one parallel pass, no sorted event lists to keep up. Its triangles are
+// split in parallel, straddlers clipped to each child (perfect splits, as below). Smaller
+// nodes are handed to the sweep (kd_sweep_build.cpp), which sorts their events once and
+// places its planes exactly; so does a top node whose planes find no split worth taking,
+// since the sweep may still find one the bins miss, or makes the leaf.
 //
-// What the tree guarantees (the traversal in trace/trace_ray.h relies on it): every point of
-// every triangle lies in the closed box of at least one leaf that references the triangle, and
-// every leaf whose box interior the triangle meets references it. A triangle that only touches a
-// split plane goes to the side it lies on; a triangle lying in the plane goes to the side the SAH
-// picked (pside). Traversal visits both children of a plane the ray crosses within a margin, so
-// a hit exactly on a split plane is always found.
-//
-// Large subtrees are built in parallel with oneTBB. The tree does not depend on the thread
-// count: every decision is made from the node's own data, and the children's node arrays are
-// concatenated in one fixed order (below child first, pbrt's layout).
-#include <tbb/enumerable_thread_specific.h>
+// The tree does not depend on the thread count: bins hold integer counts, the sweep sorts its
+// events in a total order, leaf lists are sorted, and subtrees are concatenated in one fixed
+// order (below child first).
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
-#include <tbb/parallel_sort.h>
+#include <tbb/partitioner.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include "geom/triangle.h"
+#include "kdtree/kd_binned_sah.h"
 #include "kdtree/kd_clip.h"
 #include "kdtree/kd_events.h"
 #include "kdtree/kd_sah.h"
+#include "kdtree/kd_subtree.h"
+#include "kdtree/kd_sweep_build.h"
 #include "rtt/error.h"
 #include "rtt/kdtree.h"
 #include "rtt/memory_budget.h"
@@ -38,13 +37,9 @@
 namespace rtt {
 namespace {
 
-using kd::Event;
-using kd::EventList;
-using kd::EventType;
-using kd::NodeEvents;
 using kd::SplitChoice;
-
-enum Side : uint8_t { both, left_only, right_only };
+using kd::Subtree;
+using kd::TriBox;
 
 /// Leaf references the whole tree may hold, per triangle. The SAH alone does not bound them:
 /// n thin triangles along x crossing n along y in one plane make every split cut through one
@@ -54,201 +49,168 @@ enum Side : uint8_t { both, left_only, right_only };
 /// share of this budget (tests/limits_test.cpp).
 constexpr double reference_budget = 32.0;
 
-/// Nodes with at least this many triangles, above this depth, build their two children in
-/// parallel (2^8 tasks are plenty; each parallel level costs one copy of the above subtree).
-constexpr size_t parallel_min_triangles = 4096;
-constexpr int parallel_max_depth = 8;
+/// Nodes with more triangles split on binned planes. Below, the sweep's exact planes are worth
+/// their cost: the SAH cost of the tree stays within 1 % of an all-sweep build
+/// (docs/benchmarks.md, "kd-tree build").
+constexpr size_t sweep_min_triangles = 8192;
 
-[[noreturn]] void too_large(const std::string& what) {
-    throw Error("scene too large for the kd-tree: " + what);
-}
+/// Triangles per task when a top node bins or splits its triangles.
+constexpr size_t grain = 4096;
 
-/// Nodes and leaf lists of one subtree. Above-child indices and leaf offsets are relative to
-/// the start of these arrays until the subtree is appended to its parent's.
-struct Subtree {
-    std::vector<KdNode> nodes;
-    std::vector<uint32_t> leaf_triangles;
-
-    void append(const Subtree& other) {
-        const size_t node_base = nodes.size(), leaf_base = leaf_triangles.size();
-        if (node_base + other.nodes.size() > KdNode::max_index) too_large("more than 2^30 nodes");
-        if (leaf_base + other.leaf_triangles.size() > UINT32_MAX)
-            too_large("more than 2^32 leaf references");
-        for (KdNode n : other.nodes) {
-            const bool ok = n.is_leaf()
-                                ? n.set_leaf(n.first_triangle() + uint32_t(leaf_base), n.triangle_count())
-                                : n.set_inner(n.axis(), n.split, n.above_child() + uint32_t(node_base));
-            if (!ok) too_large("node index out of range");
-            nodes.push_back(n);
-        }
-        leaf_triangles.insert(leaf_triangles.end(), other.leaf_triangles.begin(),
-                              other.leaf_triangles.end());
-    }
+/// The binned top levels: inner nodes down to the subtrees the sweep builds.
+struct TopNode {
+    SplitChoice split;  ///< axis < 0: a sweep subtree
+    std::unique_ptr<TopNode> below, above;
+    // A sweep subtree: its node's box and triangles, then the subtree built from them.
+    std::vector<TriBox> items;
+    Bbox3f box;
+    int depth = 0;
+    double budget = 0;
+    Subtree built;
 };
 
-class Builder {
+class TopBuilder {
 public:
-    Builder(std::span<const TriangleVerts> triangles, const KdBuildConfig& config, int max_depth)
+    TopBuilder(std::span<const TriangleVerts> triangles, const KdBuildConfig& config, int max_depth)
         : triangles_(triangles), config_(config), max_depth_(max_depth) {}
 
-    /// Builds the subtree of a node (consuming its events) at the end of `out`. `budget` is the
-    /// number of leaf references the subtree may hold (see reference_budget).
-    void build(NodeEvents&& ev, const Bbox3f& box, int depth, double budget, Subtree& out) {
-        const size_t n = ev.triangles;
-        SplitChoice split;
-        if (n > size_t(config_.max_leaf_size) && depth < max_depth_)
-            split = kd::find_split(ev, box, config_);
-        const double children = double(split.left_count) + double(split.right_count);
-        if (split.axis < 0 || split.cost >= double(config_.isect_cost) * double(n) ||
-            children > budget) {
-            make_leaf(ev, out);
-            ev = NodeEvents{};  // release now, not when the parent returns
-            return;
+    /// The top levels over the node `box` holding `items` (consumed), in parallel.
+    std::unique_ptr<TopNode> build(std::vector<TriBox>&& items, const Bbox3f& box, int depth,
+                                   double budget) const {
+        auto node = std::make_unique<TopNode>();
+        const size_t n = items.size();
+        if (n > sweep_min_triangles && n > size_t(config_.max_leaf_size) && depth < max_depth_)
+            node->split = kd::find_binned_split(items, box, config_);
+        // Without a split worth taking the sweep decides: it may find a plane the bins miss.
+        if (!kd::takes_split(node->split, n, budget, config_)) {
+            node->split = {};
+            node->items = std::move(items);
+            node->box = box;
+            node->depth = depth;
+            node->budget = budget;
+            return node;
         }
+        const SplitChoice& split = node->split;
         Bbox3f left_box = box, right_box = box;
         left_box.hi[split.axis] = split.pos;
         right_box.lo[split.axis] = split.pos;
-        NodeEvents left, right;
-        split_events(std::move(ev), split, left_box, right_box, left, right);
-
-        // Each child's share of the budget follows its share of the references, so every node
-        // keeps budget >= its triangle count and the leaves hold at most the root's budget.
-        const double budget_left = budget * double(split.left_count) / children;
-        const double budget_right = budget * double(split.right_count) / children;
-        const size_t index = out.nodes.size();
-        out.nodes.emplace_back();
-        if (n >= parallel_min_triangles && depth < parallel_max_depth) {
-            Subtree above;
-            tbb::parallel_invoke(
-                [&] { build(std::move(left), left_box, depth + 1, budget_left, out); },
-                [&] { build(std::move(right), right_box, depth + 1, budget_right, above); });
-            set_inner(out, index, split, out.nodes.size());
-            out.append(above);
-        } else {
-            build(std::move(left), left_box, depth + 1, budget_left, out);
-            set_inner(out, index, split, out.nodes.size());
-            build(std::move(right), right_box, depth + 1, budget_right, out);
-        }
+        std::vector<TriBox> left, right;
+        partition(items, split, left_box, right_box, left, right);
+        std::vector<TriBox>().swap(items);  // release now, not when the children return
+        tbb::parallel_invoke(
+            [&] {
+                node->below = build(std::move(left), left_box, depth + 1,
+                                    kd::child_budget(budget, split, true));
+            },
+            [&] {
+                node->above = build(std::move(right), right_box, depth + 1,
+                                    kd::child_budget(budget, split, false));
+            });
+        return node;
     }
 
 private:
-    static void set_inner(Subtree& out, size_t index, const SplitChoice& split, size_t above) {
-        if (above > KdNode::max_index || !out.nodes[index].set_inner(split.axis, split.pos, uint32_t(above)))
-            too_large("more than 2^30 nodes");
-    }
-
-    static void make_leaf(const NodeEvents& ev, Subtree& out) {
-        const size_t first = out.leaf_triangles.size();
-        if (first + ev.triangles > UINT32_MAX) too_large("more than 2^32 leaf references");
-        for (const Event& e : ev.axis[0])
-            if (e.type() != EventType::end) out.leaf_triangles.push_back(e.tri());
-        std::sort(out.leaf_triangles.begin() + std::ptrdiff_t(first), out.leaf_triangles.end());
-        KdNode leaf;
-        if (!leaf.set_leaf(uint32_t(first), uint32_t(ev.triangles)))
-            too_large("a leaf with more than 2^30 triangles");
-        out.nodes.push_back(leaf);
-    }
-
-    /// Per-thread working memory, reused from node to node. No node's split runs interleaved
-    /// with another's on one thread (nothing in split_events waits on tasks), so one is enough.
-    struct Scratch {
-        std::vector<uint8_t> side;  ///< Side of each triangle, indexed by triangle; only entries
-                                    ///< of the current node's triangles are meaningful.
-        std::vector<std::pair<uint32_t, Bbox3f>> clipped[2];  ///< Straddlers clipped per child.
-        EventList fresh[2];                                   ///< Their events on one axis.
-    };
-
-    /// Wald & Havran 2006, section 5.3: distributes the node's events to the children in
-    /// linear time, plus sorting the new events of the triangles that straddle the plane.
-    void split_events(NodeEvents&& ev, const SplitChoice& split, const Bbox3f& left_box,
-                      const Bbox3f& right_box, NodeEvents& left, NodeEvents& right) {
-        Scratch& scratch = scratch_.local();
-        std::vector<uint8_t>& side = scratch.side;
-        if (side.size() < triangles_.size()) side.assign(triangles_.size(), both);
-
+    /// The children's triangles, with the sweep's rule (kd_sweep_build.cpp): a triangle that
+    /// only touches the plane goes to the side it lies on, one lying in it to the side the SAH
+    /// picked, and one crossing it is clipped to each child (perfect splits).
+    void partition(const std::vector<TriBox>& items, const SplitChoice& split,
+                   const Bbox3f& left_box, const Bbox3f& right_box, std::vector<TriBox>& left,
+                   std::vector<TriBox>& right) const {
+        const int a = split.axis;
         const float p = split.pos;
-        const EventList& split_axis = ev.axis[split.axis];
-        for (const Event& e : split_axis) side[e.tri()] = both;
-        for (const Event& e : split_axis) {
-            switch (e.type()) {
-                case EventType::end:
-                    if (e.pos <= p) side[e.tri()] = left_only;
-                    break;
-                case EventType::start:
-                    if (e.pos >= p) side[e.tri()] = right_only;
-                    break;
-                case EventType::planar:
-                    side[e.tri()] = e.pos < p || (e.pos == p && split.planar_left) ? left_only : right_only;
-                    break;
-            }
-        }
-
-        // Straddling triangles: clip them to each child (perfect splits); a child they do not
-        // touch drops them.
-        auto& [clipped_left, clipped_right] = scratch.clipped;
-        clipped_left.clear();
-        clipped_right.clear();
-        size_t only_left = 0, only_right = 0;
-        Bbox3f b;
-        for (const Event& e : split_axis) {
-            if (e.type() == EventType::end) continue;
-            const uint32_t t = e.tri();
-            if (side[t] == left_only) {
-                ++only_left;
-            } else if (side[t] == right_only) {
-                ++only_right;
-            } else {
-                if (clip_triangle_to_box(triangles_[t], left_box, b)) clipped_left.emplace_back(t, b);
-                if (clip_triangle_to_box(triangles_[t], right_box, b)) clipped_right.emplace_back(t, b);
-            }
-        }
-        left.triangles = only_left + clipped_left.size();
-        right.triangles = only_right + clipped_right.size();
-
-        for (int a = 0; a < 3; ++a) {
-            auto& [fresh_left, fresh_right] = scratch.fresh;
-            events_on_axis(clipped_left, a, fresh_left);
-            events_on_axis(clipped_right, a, fresh_right);
-            EventList& l = left.axis[a];
-            EventList& r = right.axis[a];
-            l.reserve(2 * only_left + fresh_left.size());
-            r.reserve(2 * only_right + fresh_right.size());
-            // One pass: the parent's events, filtered by side, merged with the sorted new ones.
-            auto fl = fresh_left.begin(), fr = fresh_right.begin();
-            for (const Event& e : ev.axis[a]) {
-                const uint8_t s = side[e.tri()];
-                if (s == left_only) {
-                    while (fl != fresh_left.end() && *fl < e) l.push_back(*fl++);
-                    l.push_back(e);
-                } else if (s == right_only) {
-                    while (fr != fresh_right.end() && *fr < e) r.push_back(*fr++);
-                    r.push_back(e);
+        const size_t chunks = (items.size() + grain - 1) / grain;
+        std::vector<std::vector<TriBox>> lefts(chunks), rights(chunks);
+        tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+            std::vector<TriBox>&l = lefts[c], &r = rights[c];
+            Bbox3f b;
+            for (size_t i = c * grain; i < std::min(items.size(), (c + 1) * grain); ++i) {
+                const TriBox& t = items[i];
+                const float lo = t.box.lo[a], hi = t.box.hi[a];
+                if (lo == hi) {
+                    (lo < p || (lo == p && split.planar_left) ? l : r).push_back(t);
+                } else if (hi <= p) {
+                    l.push_back(t);
+                } else if (lo >= p) {
+                    r.push_back(t);
+                } else {
+                    if (clip_triangle_to_box(triangles_[t.tri], left_box, b)) l.push_back({b, t.tri});
+                    if (clip_triangle_to_box(triangles_[t.tri], right_box, b)) r.push_back({b, t.tri});
                 }
             }
-            l.insert(l.end(), fl, fresh_left.end());
-            r.insert(r.end(), fr, fresh_right.end());
-            EventList().swap(ev.axis[a]);
-        }
+        });
+        concatenate(lefts, left);
+        concatenate(rights, right);
     }
 
-    /// The sorted events along axis `a` of triangles with the given bounds.
-    static void events_on_axis(const std::vector<std::pair<uint32_t, Bbox3f>>& boxes, int a,
-                               EventList& out) {
-        out.clear();
-        for (const auto& [t, box] : boxes) kd::append_events(out, box.lo[a], box.hi[a], t);
-        std::sort(out.begin(), out.end());
+    static void concatenate(const std::vector<std::vector<TriBox>>& parts, std::vector<TriBox>& all) {
+        size_t total = 0;
+        for (const auto& part : parts) total += part.size();
+        all.reserve(total);
+        for (const auto& part : parts) all.insert(all.end(), part.begin(), part.end());
     }
 
     std::span<const TriangleVerts> triangles_;
     const KdBuildConfig& config_;
     int max_depth_;
-    tbb::enumerable_thread_specific<Scratch> scratch_;
 };
+
+/// The sweep subtrees under `node`, below child first.
+void collect_subtrees(TopNode& node, std::vector<TopNode*>& out) {
+    if (node.split.axis < 0) {
+        out.push_back(&node);
+        return;
+    }
+    collect_subtrees(*node.below, out);
+    collect_subtrees(*node.above, out);
+}
+
+/// Lays the tree out in one array in depth-first order, below child first: the top's inner
+/// nodes at their places, each sweep subtree copied once (in parallel) and rebased.
+void lay_out(TopNode& root, KdTree& tree) {
+    struct Placed {
+        Subtree* subtree;
+        size_t node_base, leaf_base;
+    };
+    std::vector<Placed> placed;
+    std::vector<std::pair<size_t, KdNode>> inner;  // the top's inner nodes and their places
+    size_t nodes = 0, refs = 0;
+    const auto place = [&](const auto& self, TopNode& node) -> void {
+        if (node.split.axis < 0) {
+            placed.push_back({&node.built, nodes, refs});
+            nodes += node.built.nodes.size();
+            refs += node.built.leaf_triangles.size();
+            return;
+        }
+        const size_t index = nodes++;
+        self(self, *node.below);
+        KdNode n;
+        if (nodes > KdNode::max_index || !n.set_inner(node.split.axis, node.split.pos, uint32_t(nodes)))
+            kd::too_large("more than 2^30 nodes");
+        inner.emplace_back(index, n);
+        self(self, *node.above);
+    };
+    place(place, root);
+    if (nodes > KdNode::max_index) kd::too_large("more than 2^30 nodes");
+    if (refs > UINT32_MAX) kd::too_large("more than 2^32 leaf references");
+
+    tree.nodes.resize(nodes);
+    tree.leaf_triangles.resize(refs);
+    for (const auto& [index, n] : inner) tree.nodes[index] = n;
+    tbb::parallel_for(size_t(0), placed.size(), [&](size_t i) {
+        const Placed& p = placed[i];
+        std::transform(p.subtree->nodes.begin(), p.subtree->nodes.end(),
+                       tree.nodes.begin() + std::ptrdiff_t(p.node_base),
+                       [&](KdNode n) { return kd::rebased(n, p.node_base, p.leaf_base); });
+        std::copy(p.subtree->leaf_triangles.begin(), p.subtree->leaf_triangles.end(),
+                  tree.leaf_triangles.begin() + std::ptrdiff_t(p.leaf_base));
+        *p.subtree = Subtree{};
+    });
+}
 
 /// Checks what the build relies on (indices in range, finite coordinates, index fits 30 bits).
 void check_input(const Scene& scene) {
-    if (scene.triangles.size() > Event::tri_mask)
-        too_large(std::to_string(scene.triangles.size()) + " triangles, at most 2^30 - 1");
+    if (scene.triangles.size() > kd::Event::tri_mask)
+        kd::too_large(std::to_string(scene.triangles.size()) + " triangles, at most 2^30 - 1");
     require_memory(scene_memory_bytes(scene.vertices.size(), scene.triangles.size()),
                    "a kd-tree over " + std::to_string(scene.triangles.size()) + " triangles");
     for (size_t i = 0; i < scene.triangles.size(); ++i)
@@ -273,33 +235,56 @@ int auto_max_depth(size_t n) {
 KdTree build_kdtree(const Scene& scene, const KdBuildConfig& config) {
     config.validate();
     check_input(scene);
-    const auto start = std::chrono::steady_clock::now();
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
     const std::vector<TriangleVerts> triangles = gather_triangles(scene);
     const size_t n = triangles.size();
 
     KdTree tree;
-    NodeEvents root;
-    for (int a = 0; a < 3; ++a) root.axis[a].reserve(2 * n);
-    root.triangles = n;
-    for (size_t i = 0; i < n; ++i) {
-        const Bbox3f b = triangle_bounds(triangles[i]);
-        tree.bounds.extend(b);
-        for (int a = 0; a < 3; ++a) kd::append_events(root.axis[a], b.lo[a], b.hi[a], uint32_t(i));
-    }
-    for (EventList& list : root.axis) tbb::parallel_sort(list.begin(), list.end());
+    std::vector<TriBox> items(n);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t i = r.begin(); i < r.end(); ++i) items[i] = {triangle_bounds(triangles[i]), uint32_t(i)};
+    });
+    for (const TriBox& t : items) tree.bounds.extend(t.box);
+    const auto setup_done = Clock::now();
 
     const int max_depth = config.max_depth > 0 ? config.max_depth : auto_max_depth(n);
-    Builder builder(triangles, config, max_depth);
-    Subtree out;
-    builder.build(std::move(root), tree.bounds, 0, reference_budget * double(n), out);
-    tree.nodes = std::move(out.nodes);
-    tree.leaf_triangles = std::move(out.leaf_triangles);
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const std::unique_ptr<TopNode> top = TopBuilder(triangles, config, max_depth)
+                                             .build(std::move(items), tree.bounds, 0,
+                                                    reference_budget * double(n));
+    std::vector<TopNode*> subtrees;
+    collect_subtrees(*top, subtrees);
+    const auto top_done = Clock::now();
+
+    // Largest first, so that no big subtree starts last (most hold at most sweep_min_triangles;
+    // a big one is a node the bins found no split for).
+    std::stable_sort(subtrees.begin(), subtrees.end(), [](const TopNode* a, const TopNode* b) {
+        return a->items.size() > b->items.size();
+    });
+    kd::SweepBuilder sweep(triangles, config, max_depth);
+    tbb::parallel_for(
+        size_t(0), subtrees.size(),
+        [&](size_t i) {
+            TopNode& t = *subtrees[i];
+            sweep.build(t.items, t.box, t.depth, t.budget, t.built);
+            std::vector<TriBox>().swap(t.items);
+        },
+        tbb::simple_partitioner());
+    const auto sweep_done = Clock::now();
+
+    lay_out(*top, tree);
+    const auto end = Clock::now();
+    const double seconds = std::chrono::duration<double>(end - start).count();
 
     tree.stats = compute_stats(tree, config);
     tree.stats.triangles = n;
     tree.stats.build_seconds = seconds;
+    tree.stats.setup_seconds = std::chrono::duration<double>(setup_done - start).count();
+    tree.stats.top_seconds = std::chrono::duration<double>(top_done - setup_done).count();
+    tree.stats.sweep_seconds = std::chrono::duration<double>(sweep_done - top_done).count();
+    tree.stats.layout_seconds = std::chrono::duration<double>(end - sweep_done).count();
+    tree.stats.top_nodes = subtrees.size() - 1;  // a binary tree's inner nodes
+    tree.stats.sweep_subtrees = subtrees.size();
     return tree;
 }
 

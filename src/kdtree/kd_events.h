@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "rtt/math.h"
@@ -44,11 +45,21 @@ inline void append_events(EventList& list, float lo, float hi, uint32_t tri) {
     }
 }
 
+/// A triangle of a node with the bounds of its part inside the node (the binned top levels
+/// carry these instead of events).
+struct TriBox {
+    Bbox3f box;
+    uint32_t tri;
+};
+
 /// The three per-axis event lists of one node.
 struct NodeEvents {
     std::array<EventList, 3> axis;
     /// Number of triangles in the node (each has exactly one start or planar event per axis).
     size_t triangles = 0;
 };
+
+/// The sorted event lists of the triangles `items`.
+NodeEvents events_of(std::span<const TriBox> items);
 
 }  // namespace rtt::kd
