@@ -154,6 +154,7 @@ uint64_t RttTracer::answer_shadows(const SegmentTile& tile, const Shaft& s,
     const SampleAnswer how =
         blocked || list.count > 0 ? SampleAnswer::answered_list : SampleAnswer::answered_empty;
     uint64_t answered = 0;
+    const ApexList apex_list(s, list, triangles_);
     for (int base = 0; base < n; base += K) {
         const InnerRays<K> r = load_inner_segments<K>(tile.light, tile.points, base);
         uint32_t lanes = without_corners(r, tile.width, tile.height);
@@ -172,7 +173,7 @@ uint64_t RttTracer::answer_shadows(const SegmentTile& tile, const Shaft& s,
         const vf err = vf(8.f * unit_roundoff) * (((abs(nx) + abs(ny)) + abs(nz)) + vf(receiver.h));
         ok &= v - err >= vf(-receiver_tol);
         vbool<K> occ = vbool<K>(blocked);
-        if (!blocked && list.count > 0) occ = occluded_by_list<K>(wp, ok, list, triangles_);
+        if (!blocked && list.count > 0) occ = occluded_by_list<K>(wp, ok, apex_list);
         const uint32_t good = movemask(ok), occ_bits = movemask(occ);
         need.set_lanes(base, lanes & ~good);
         answered += uint64_t(std::popcount(good));

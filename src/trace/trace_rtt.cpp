@@ -227,13 +227,14 @@ uint64_t RttTracer::answer_primary(const RayTile& tile, const Shaft& s, const Re
     using vf = vfloat<K>;
     const int n = int(tile.rays.size());
     uint64_t answered = 0;
+    const ApexList apex_list(s, list, triangles_);
     for (int base = 0; base < n; base += K) {
         const InnerRays<K> r = load_inner_rays<K>(tile.rays, base);
         const uint32_t lanes = without_corners(r, tile.width, tile.height);
         if (!lanes) continue;
         const WatertightPacket<K> wp = watertight<K>(r, lanes);
         vbool<K> ok = shaft_accepts<K>(s, r, wp) & vbool<K>::from_bits(lanes);
-        const PacketHit<K> best = closest_in_list<K>(wp, ok, list, triangles_);
+        const PacketHit<K> best = closest_in_list<K>(wp, ok, apex_list);
         // Taken only when the answer lies inside R (its offset, and the distance
         // g = h + t n.d of the hit point from P, with its rounding): the segment up to it is
         // in R, so nothing outside the list can come first.
