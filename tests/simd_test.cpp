@@ -155,6 +155,18 @@ TYPED_TEST(Simd, LoadsStoresLanesAndReductions) {
     store(vbool<K>::from_bits(bits), out, x);
     for (int i = 0; i < K; ++i) EXPECT_EQ(out[i], (bits >> i) & 1 ? in[i] : 100.f) << "lane " << i;
 
+    // Pairs stored interleaved, bit for bit, at an unaligned address.
+    {
+        const std::vector<float> a = test_values(K, 13), b = test_values(K, 14);
+        std::vector<float> pairs(2 * K + 1, 100.f);
+        storeu_pairs(pairs.data() + 1, vf::loadu(a.data()), vf::loadu(b.data()));
+        EXPECT_EQ(pairs[0], 100.f);
+        for (int i = 0; i < K; ++i) {
+            EXPECT_TRUE(same_bits(pairs[size_t(1 + 2 * i)], a[size_t(i)])) << i;
+            EXPECT_TRUE(same_bits(pairs[size_t(2 + 2 * i)], b[size_t(i)])) << i;
+        }
+    }
+
     // Records of 8 and of 3 floats read as structure of arrays, bit for bit (NaN payloads,
     // signed zeros), from an unaligned address.
     const std::vector<float> pool = test_values(8 * K + 1, 11);
