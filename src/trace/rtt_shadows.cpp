@@ -1,7 +1,9 @@
 // The RTT tracer's shadow segments (trace_rtt.h).
+#include <algorithm>
 #include <bit>
 #include <cmath>
 
+#include "simd/lane_bytes.h"
 #include "trace/packet_blocks.h"
 #include "trace/rtt_cull.h"
 #include "trace/rtt_inner.h"
@@ -157,10 +159,8 @@ uint64_t RttTracer::answer_shadows(const SegmentTile& tile, const Shaft& s,
     const ApexList apex_list(s, list, triangles_);
     for (int base = 0; base < n; base += K) {
         const InnerRays<K> r = load_inner_segments<K>(tile.light, tile.points, base);
-        uint32_t lanes = without_corners(r, tile.width, tile.height);
-        for (uint32_t b = lanes; b; b &= b - 1)
-            if (!tile.active[size_t(base + std::countr_zero(b))])
-                lanes &= ~(1u << std::countr_zero(b));
+        const uint32_t lanes = without_corners(r, tile.width, tile.height) &
+                               nonzero_bytes(tile.active.data() + base, std::min(K, n - base));
         if (!lanes) continue;
         const WatertightPacket<K> wp = watertight<K>(r, lanes);
         vbool<K> ok = shaft_accepts<K>(s, r, wp) & vbool<K>::from_bits(lanes);
@@ -177,6 +177,11 @@ uint64_t RttTracer::answer_shadows(const SegmentTile& tile, const Shaft& s,
         const uint32_t good = movemask(ok), occ_bits = movemask(occ);
         need.set_lanes(base, lanes & ~good);
         answered += uint64_t(std::popcount(good));
+        if (good == all_lanes<K>) {  // a whole block: its 16 bytes at once
+            store_bits_as_bytes<K>(visible.data() + base, ~occ_bits & all_lanes<K>);
+            if (!answers.empty()) std::fill_n(answers.begin() + base, K, how);
+            continue;
+        }
         for (uint32_t b = good; b; b &= b - 1) {
             const int l = std::countr_zero(b);
             visible[size_t(base + l)] = !((occ_bits >> l) & 1u);
