@@ -27,8 +27,14 @@ bool RttTracer::one_receiver_plane(const SegmentTile& tile) const {
     const auto on_plane = [&](uint32_t t) { return t < triangles_.size() && planes_.id[t] == pid; };
     for (int i = 1; i < 4; ++i)
         if (!on_plane(tile.triangles[corner_sample(tile.width, tile.height, i)])) return false;
-    for (size_t i = 0; i < tile.triangles.size(); ++i)
-        if (tile.active[i] && !on_plane(tile.triangles[i])) return false;
+    // Neighbouring samples mostly hit the same triangle: its plane is looked up once.
+    uint32_t checked = t0;
+    for (size_t i = 0; i < tile.triangles.size(); ++i) {
+        const uint32_t t = tile.triangles[i];
+        if (t == checked || !tile.active[i]) continue;
+        if (!on_plane(t)) return false;
+        checked = t;
+    }
     const TriangleVerts& r = triangles_[planes_.representative[pid]];
     return orient3d_sign(r.v0, r.v1, r.v2, tile.light) != 0;
 }
