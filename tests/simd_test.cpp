@@ -1,5 +1,6 @@
 // The SIMD value types and the K-wide watertight test, lane by lane against the scalar C++
 // they stand for, bit for bit (NaN, infinities, signed zeros and denormals included).
+#include "simd/lane_bytes.h"
 #include "simd/simd.h"
 
 #include <gtest/gtest.h>
@@ -154,6 +155,34 @@ TYPED_TEST(Simd, LoadsStoresLanesAndReductions) {
     for (int i = 0; i < K; ++i) out[i] = 100.f;
     store(vbool<K>::from_bits(bits), out, x);
     for (int i = 0; i < K; ++i) EXPECT_EQ(out[i], (bits >> i) & 1 ? in[i] : 100.f) << "lane " << i;
+
+    // Lane masks to and from one byte per lane (activity and visibility arrays).
+    {
+        const uint8_t bytes[17] = {0, 1, 0, 2, 255, 0, 0, 1, 1, 0, 1, 0, 0, 0, 7, 1, 9};
+        for (int n = 0; n <= 16; ++n) {
+            uint32_t expect = 0;
+            for (int i = 0; i < n; ++i) expect |= bytes[i] != 0 ? 1u << i : 0u;
+            EXPECT_EQ(nonzero_bytes(bytes, n), expect) << n;
+        }
+        uint8_t out[K + 1];
+        out[K] = 77;
+        const uint32_t bits = 0xB5C3u & all_lanes<K>;
+        store_bits_as_bytes<K>(out, bits);
+        for (int i = 0; i < K; ++i) EXPECT_EQ(out[i], (bits >> i) & 1u) << i;
+        EXPECT_EQ(out[K], 77);
+    }
+
+    // Pairs stored interleaved, bit for bit, at an unaligned address.
+    {
+        const std::vector<float> a = test_values(K, 13), b = test_values(K, 14);
+        std::vector<float> pairs(2 * K + 1, 100.f);
+        storeu_pairs(pairs.data() + 1, vf::loadu(a.data()), vf::loadu(b.data()));
+        EXPECT_EQ(pairs[0], 100.f);
+        for (int i = 0; i < K; ++i) {
+            EXPECT_TRUE(same_bits(pairs[size_t(1 + 2 * i)], a[size_t(i)])) << i;
+            EXPECT_TRUE(same_bits(pairs[size_t(2 + 2 * i)], b[size_t(i)])) << i;
+        }
+    }
 
     // Records of 8 and of 3 floats read as structure of arrays, bit for bit (NaN payloads,
     // signed zeros), from an unaligned address.

@@ -100,6 +100,44 @@ static_assert(sizeof(WatertightPacket<8>) == 15 * sizeof(vfloat<8>));
 static_assert(sizeof(WatertightPacket<16>) == 15 * sizeof(vfloat<16>));
 #endif
 
+/// The vertices of a triangle relative to the rays' origin, permuted: a_kx = v0[kx] - org[kx]
+/// and so on, as intersect_watertight's first step computes them.
+template <int K>
+struct RelativeTriangle {
+    vfloat<K> a_kx, a_ky, a_kz, b_kx, b_ky, b_kz, c_kx, c_ky, c_kz;
+};
+
+/// intersect_watertight() from its first step's result `rel` (the rest of the test: shear, edge
+/// functions, t), for callers that get `rel` without the subtractions (a common origin).
+template <int K>
+RTT_FORCEINLINE vbool<K> intersect_watertight_relative(const WatertightPacket<K>& r,
+                                                       vbool<K> active,
+                                                       const RelativeTriangle<K>& rel,
+                                                       vfloat<K>& t) {
+    using vf = vfloat<K>;
+    const vf ax = rel.a_kx - r.sx * rel.a_kz;
+    const vf ay = rel.a_ky - r.sy * rel.a_kz;
+    const vf bx = rel.b_kx - r.sx * rel.b_kz;
+    const vf by = rel.b_ky - r.sy * rel.b_kz;
+    const vf cx = rel.c_kx - r.sx * rel.c_kz;
+    const vf cy = rel.c_ky - r.sy * rel.c_kz;
+    const vf u = cx * by - cy * bx;
+    const vf v = ax * cy - ay * cx;
+    const vf w = bx * ay - by * ax;
+    const vf zero(0.f);
+    const vbool<K> some_neg = (u < zero) | (v < zero) | (w < zero);
+    const vbool<K> some_pos = (u > zero) | (v > zero) | (w > zero);
+    vbool<K> hit = andnot(active, some_neg & some_pos);
+    if (none(hit)) return hit;
+    const vf det = (u + v) + w;
+    hit &= det != zero;
+    const vf az = r.sz * rel.a_kz;
+    const vf bz = r.sz * rel.b_kz;
+    const vf cz = r.sz * rel.c_kz;
+    t = ((u * az + v * bz) + w * cz) / det;
+    return hit & (t >= r.tmin) & (t <= r.tmax);  // ordered compares also reject NaN
+}
+
 /// Lanes of `active` whose ray hits `tri` at t in [tmin, tmax] (inclusive, per lane); `t` is
 /// set for those lanes (other lanes: unspecified). Lane i answers exactly like
 /// intersect_watertight(WatertightRay(ray_i), tri, t).
@@ -136,27 +174,8 @@ RTT_FORCEINLINE vbool<K> intersect_watertight(const WatertightPacket<K>& r, vboo
         c_ky = pick_axis<K>(c, y0, y1);
         c_kz = pick_axis<K>(c, z0, z1);
     }
-    const vf ax = a_kx - r.sx * a_kz;
-    const vf ay = a_ky - r.sy * a_kz;
-    const vf bx = b_kx - r.sx * b_kz;
-    const vf by = b_ky - r.sy * b_kz;
-    const vf cx = c_kx - r.sx * c_kz;
-    const vf cy = c_ky - r.sy * c_kz;
-    const vf u = cx * by - cy * bx;
-    const vf v = ax * cy - ay * cx;
-    const vf w = bx * ay - by * ax;
-    const vf zero(0.f);
-    const vbool<K> some_neg = (u < zero) | (v < zero) | (w < zero);
-    const vbool<K> some_pos = (u > zero) | (v > zero) | (w > zero);
-    vbool<K> hit = andnot(active, some_neg & some_pos);
-    if (none(hit)) return hit;
-    const vf det = (u + v) + w;
-    hit &= det != zero;
-    const vf az = r.sz * a_kz;
-    const vf bz = r.sz * b_kz;
-    const vf cz = r.sz * c_kz;
-    t = ((u * az + v * bz) + w * cz) / det;
-    return hit & (t >= r.tmin) & (t <= r.tmax);  // ordered compares also reject NaN
+    return intersect_watertight_relative<K>(
+        r, active, RelativeTriangle<K>{a_kx, a_ky, a_kz, b_kx, b_ky, b_kz, c_kx, c_ky, c_kz}, t);
 }
 
 /// Closest hit per lane, with the one ordering of math.h's closer(): smaller t, then smaller

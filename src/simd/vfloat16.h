@@ -44,6 +44,16 @@ RTT_FORCEINLINE void store(vbool16 m, float* p, vfloat16 a) {
     _mm512_mask_storeu_ps(p, m, a);
 }
 
+/// Stores a and b interleaved, p[2 i] = a[i] and p[2 i + 1] = b[i] (records of two floats, e.g.
+/// a hit's t and a triangle index as bits): one two-register permute per 16 floats.
+RTT_FORCEINLINE void storeu_pairs(float* p, vfloat16 a, vfloat16 b) {
+    alignas(64) static constexpr int32_t index[2][16] = {
+        {0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23},
+        {8, 24, 9, 25, 10, 26, 11, 27, 12, 28, 13, 29, 14, 30, 15, 31}};
+    _mm512_storeu_ps(p, _mm512_permutex2var_ps(a, _mm512_load_si512(index[0]), b));
+    _mm512_storeu_ps(p + 16, _mm512_permutex2var_ps(a, _mm512_load_si512(index[1]), b));
+}
+
 RTT_FORCEINLINE vfloat16 operator+(vfloat16 a, vfloat16 b) {
     return _mm512_add_ps(a, b);
 }

@@ -48,6 +48,12 @@ RTT_FORCEINLINE void store(vbool4 m, float* p, vfloat4 a) {
 #endif
 }
 
+/// Stores a and b interleaved, p[2 i] = a[i] and p[2 i + 1] = b[i] (records of two floats).
+RTT_FORCEINLINE void storeu_pairs(float* p, vfloat4 a, vfloat4 b) {
+    _mm_storeu_ps(p, _mm_unpacklo_ps(a, b));
+    _mm_storeu_ps(p + 4, _mm_unpackhi_ps(a, b));
+}
+
 RTT_FORCEINLINE vfloat4 operator+(vfloat4 a, vfloat4 b) {
     return _mm_add_ps(a, b);
 }

@@ -37,6 +37,13 @@ RTT_FORCEINLINE void store(vbool8 m, float* p, vfloat8 a) {
     _mm256_maskstore_ps(p, _mm256_castps_si256(m), a);
 }
 
+/// Stores a and b interleaved, p[2 i] = a[i] and p[2 i + 1] = b[i] (records of two floats).
+RTT_FORCEINLINE void storeu_pairs(float* p, vfloat8 a, vfloat8 b) {
+    const __m256 lo = _mm256_unpacklo_ps(a, b), hi = _mm256_unpackhi_ps(a, b);
+    _mm256_storeu_ps(p, _mm256_permute2f128_ps(lo, hi, 0x20));
+    _mm256_storeu_ps(p + 8, _mm256_permute2f128_ps(lo, hi, 0x31));
+}
+
 RTT_FORCEINLINE vfloat8 operator+(vfloat8 a, vfloat8 b) {
     return _mm256_add_ps(a, b);
 }

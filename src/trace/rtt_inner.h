@@ -122,30 +122,59 @@ RTT_FORCEINLINE WatertightPacket<K> watertight(const InnerRays<K>& r, uint32_t l
     return WatertightPacket<K>(r.org, r.dir, r.tmin, r.tmax, vbool<K>::from_bits(lanes));
 }
 
-/// Closest hits of the lanes `ok` over the list (closer(): smaller t, then smaller index).
+/// A tile's relevant list with each triangle's vertices taken relative to the shaft's apex, in
+/// the shaft's axis order, once per tile: the first step of the watertight test (a[kx] =
+/// v0[kx] - org[kx], ...) for every ray shaft_accepts passes (it starts at the apex, with the
+/// shaft's permutation), which the blocks of inner rays then skip. The same float
+/// subtractions: the lanes' answers are unchanged.
+struct ApexList {
+    int count = 0;
+    uint32_t tri[rtt_max_relevant];
+    float rel[rtt_max_relevant][9];
+
+    ApexList(const Shaft& s, const RelevantList& list, std::span<const TriangleVerts> triangles)
+        : count(list.count) {
+        const int k[3] = {s.kx, s.ky, s.kz};
+        for (int j = 0; j < count; ++j) {
+            tri[j] = list.tri[j];
+            const TriangleVerts& t = triangles[list.tri[j]];
+            const Vec3f* v[3] = {&t.v0, &t.v1, &t.v2};
+            for (int vi = 0; vi < 3; ++vi)
+                for (int a = 0; a < 3; ++a)
+                    rel[j][3 * vi + a] = coord(*v[vi], k[a]) - coord(s.org, k[a]);
+        }
+    }
+    template <int K>
+    RTT_FORCEINLINE RelativeTriangle<K> get(int j) const {
+        const float* r = rel[j];
+        return {vfloat<K>(r[0]), vfloat<K>(r[1]), vfloat<K>(r[2]),
+                vfloat<K>(r[3]), vfloat<K>(r[4]), vfloat<K>(r[5]),
+                vfloat<K>(r[6]), vfloat<K>(r[7]), vfloat<K>(r[8])};
+    }
+};
+
+/// Closest hits of the lanes `ok` (accepted by the list's shaft) over the list (closer():
+/// smaller t, then smaller index).
 template <int K>
 RTT_FORCEINLINE PacketHit<K> closest_in_list(const WatertightPacket<K>& wp, vbool<K> ok,
-                                             const RelevantList& list,
-                                             std::span<const TriangleVerts> triangles) {
+                                             const ApexList& list) {
     PacketHit<K> best;
     for (int j = 0; j < list.count; ++j) {
-        const uint32_t id = list.tri[j];
         vfloat<K> t;
-        const vbool<K> hit = intersect_watertight<K>(wp, ok, triangles[id], t);
-        if (any(hit)) best.update(hit, t, id);
+        const vbool<K> hit = intersect_watertight_relative<K>(wp, ok, list.get<K>(j), t);
+        if (any(hit)) best.update(hit, t, list.tri[j]);
     }
     return best;
 }
 
-/// Lanes of `ok` that some triangle of the list blocks.
+/// Lanes of `ok` (accepted by the list's shaft) that some triangle of the list blocks.
 template <int K>
 RTT_FORCEINLINE vbool<K> occluded_by_list(const WatertightPacket<K>& wp, vbool<K> ok,
-                                          const RelevantList& list,
-                                          std::span<const TriangleVerts> triangles) {
+                                          const ApexList& list) {
     vbool<K> blocked(false);
     for (int j = 0; j < list.count && any(ok); ++j) {
         vfloat<K> t;
-        const vbool<K> hit = intersect_watertight<K>(wp, ok, triangles[list.tri[j]], t);
+        const vbool<K> hit = intersect_watertight_relative<K>(wp, ok, list.get<K>(j), t);
         blocked |= hit;
         ok = andnot(ok, hit);
     }

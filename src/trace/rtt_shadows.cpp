@@ -1,7 +1,9 @@
 // The RTT tracer's shadow segments (trace_rtt.h).
+#include <algorithm>
 #include <bit>
 #include <cmath>
 
+#include "simd/lane_bytes.h"
 #include "trace/packet_blocks.h"
 #include "trace/rtt_cull.h"
 #include "trace/rtt_inner.h"
@@ -25,8 +27,14 @@ bool RttTracer::one_receiver_plane(const SegmentTile& tile) const {
     const auto on_plane = [&](uint32_t t) { return t < triangles_.size() && planes_.id[t] == pid; };
     for (int i = 1; i < 4; ++i)
         if (!on_plane(tile.triangles[corner_sample(tile.width, tile.height, i)])) return false;
-    for (size_t i = 0; i < tile.triangles.size(); ++i)
-        if (tile.active[i] && !on_plane(tile.triangles[i])) return false;
+    // Neighbouring samples mostly hit the same triangle: its plane is looked up once.
+    uint32_t checked = t0;
+    for (size_t i = 0; i < tile.triangles.size(); ++i) {
+        const uint32_t t = tile.triangles[i];
+        if (t == checked || !tile.active[i]) continue;
+        if (!on_plane(t)) return false;
+        checked = t;
+    }
     const TriangleVerts& r = triangles_[planes_.representative[pid]];
     return orient3d_sign(r.v0, r.v1, r.v2, tile.light) != 0;
 }
@@ -154,12 +162,11 @@ uint64_t RttTracer::answer_shadows(const SegmentTile& tile, const Shaft& s,
     const SampleAnswer how =
         blocked || list.count > 0 ? SampleAnswer::answered_list : SampleAnswer::answered_empty;
     uint64_t answered = 0;
+    const ApexList apex_list(s, list, triangles_);
     for (int base = 0; base < n; base += K) {
         const InnerRays<K> r = load_inner_segments<K>(tile.light, tile.points, base);
-        uint32_t lanes = without_corners(r, tile.width, tile.height);
-        for (uint32_t b = lanes; b; b &= b - 1)
-            if (!tile.active[size_t(base + std::countr_zero(b))])
-                lanes &= ~(1u << std::countr_zero(b));
+        const uint32_t lanes = without_corners(r, tile.width, tile.height) &
+                               nonzero_bytes(tile.active.data() + base, std::min(K, n - base));
         if (!lanes) continue;
         const WatertightPacket<K> wp = watertight<K>(r, lanes);
         vbool<K> ok = shaft_accepts<K>(s, r, wp) & vbool<K>::from_bits(lanes);
@@ -172,10 +179,15 @@ uint64_t RttTracer::answer_shadows(const SegmentTile& tile, const Shaft& s,
         const vf err = vf(8.f * unit_roundoff) * (((abs(nx) + abs(ny)) + abs(nz)) + vf(receiver.h));
         ok &= v - err >= vf(-receiver_tol);
         vbool<K> occ = vbool<K>(blocked);
-        if (!blocked && list.count > 0) occ = occluded_by_list<K>(wp, ok, list, triangles_);
+        if (!blocked && list.count > 0) occ = occluded_by_list<K>(wp, ok, apex_list);
         const uint32_t good = movemask(ok), occ_bits = movemask(occ);
         need.set_lanes(base, lanes & ~good);
         answered += uint64_t(std::popcount(good));
+        if (good == all_lanes<K>) {  // a whole block: its 16 bytes at once
+            store_bits_as_bytes<K>(visible.data() + base, ~occ_bits & all_lanes<K>);
+            if (!answers.empty()) std::fill_n(answers.begin() + base, K, how);
+            continue;
+        }
         for (uint32_t b = good; b; b &= b - 1) {
             const int l = std::countr_zero(b);
             visible[size_t(base + l)] = !((occ_bits >> l) & 1u);

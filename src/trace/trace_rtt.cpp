@@ -1,9 +1,11 @@
 // The RTT tracer: tiles of primary and reflected rays, and the factories (trace_rtt.h).
 #include "trace/trace_rtt.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <optional>
+#include <type_traits>
 
 #include "trace/factories.h"
 #include "trace/packet_blocks.h"
@@ -227,13 +229,14 @@ uint64_t RttTracer::answer_primary(const RayTile& tile, const Shaft& s, const Re
     using vf = vfloat<K>;
     const int n = int(tile.rays.size());
     uint64_t answered = 0;
+    const ApexList apex_list(s, list, triangles_);
     for (int base = 0; base < n; base += K) {
         const InnerRays<K> r = load_inner_rays<K>(tile.rays, base);
         const uint32_t lanes = without_corners(r, tile.width, tile.height);
         if (!lanes) continue;
         const WatertightPacket<K> wp = watertight<K>(r, lanes);
         vbool<K> ok = shaft_accepts<K>(s, r, wp) & vbool<K>::from_bits(lanes);
-        const PacketHit<K> best = closest_in_list<K>(wp, ok, list, triangles_);
+        const PacketHit<K> best = closest_in_list<K>(wp, ok, apex_list);
         // Taken only when the answer lies inside R (its offset, and the distance
         // g = h + t n.d of the hit point from P, with its rounding): the segment up to it is
         // in R, so nothing outside the list can come first.
@@ -254,6 +257,15 @@ uint64_t RttTracer::answer_primary(const RayTile& tile, const Shaft& s, const Re
         const uint32_t good = movemask(ok);
         need.set_lanes(base, lanes & ~good);
         answered += uint64_t(std::popcount(good));
+        if (good == all_lanes<K>) {
+            // A whole block (most of a tile from K = 3 on): the hits as two vector stores; lane
+            // by lane, each scalar read waited on the vector store before it.
+            static_assert(sizeof(Hit) == 2 * sizeof(float) && std::is_standard_layout_v<Hit>);
+            storeu_pairs(reinterpret_cast<float*>(hits.data() + base), best.t, as_float(best.tri));
+            if (!answers.empty())
+                std::fill_n(answers.begin() + base, K, SampleAnswer::answered_list);
+            continue;
+        }
         alignas(64) float ts[K];
         alignas(64) int32_t tris[K];
         store(ts, best.t);
