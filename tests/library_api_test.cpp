@@ -9,7 +9,9 @@
 #include "agreement.h"
 #include "geom/triangle.h"
 #include "rtt/error.h"
+#include "rtt/camera.h"
 #include "rtt/kdtree.h"
+#include "rtt/rtt_options.h"
 #include "rtt/tracer.h"
 #include "triangle_soup.h"
 
@@ -131,6 +133,47 @@ TEST(LibraryApi, RayBatchesRefuseBadInput) {
     EXPECT_THROW(intersect_rays(*tracer, three, hits), Error);
     EXPECT_THROW(visible_rays(*tracer, three, visible), Error);
     intersect_rays(*tracer, {}, std::span<Hit>{});  // an empty batch is fine
+}
+
+TEST(LibraryApi, RttOptionsChangeTheWorkNeverTheAnswers) {
+    const Scene scene = test_scene();
+    const KdTree tree = build_kdtree(scene);
+    const auto reference = make_tracer("ray", scene, tree);
+    const RttOptions configs[] = {
+        {},
+        {.rules = RttRules::paper},
+        {.walk_budget_base = 1, .walk_budget_per_sample = 0},
+        {.walk_budget_base = 100000, .walk_budget_per_sample = 100},
+        {.deferred_budget_base = 1},
+        {.lean_max_samples = 0},
+        {.lean_max_samples = rtt_max_samples_per_tile},
+    };
+    const Camera camera{{3.f, 2.f, 4.f}, {0.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, 55.f};
+    std::vector<uint64_t> answered;
+    for (const RttOptions& options : configs) {
+        const auto rtt = make_rtt_tracer(scene, tree, options);
+        TraceStats stats;
+        size_t mismatches = 0;
+        for (int aa : {1, 2, 4}) {
+            const CameraRays rays(camera, 96, 64, aa);
+            for (int ty = 0; ty < 16; ++ty)
+                for (int tx = 0; tx < 24; ++tx) {
+                    const std::vector<Ray> tile = differential::primary_tile(rays, tx, ty);
+                    const int side = 4 * aa;
+                    std::vector<Hit> got(tile.size()), want(tile.size());
+                    rtt->intersect(RayTile{side, side, tile, true}, got, &stats);
+                    reference->intersect(RayTile{side, side, tile, true}, want);
+                    for (size_t i = 0; i < tile.size(); ++i) mismatches += !(got[i] == want[i]);
+                }
+        }
+        EXPECT_EQ(mismatches, 0u);
+        answered.push_back(stats.answered);
+    }
+    EXPECT_GT(answered[0], 0u);
+    EXPECT_LT(answered[2], answered[0]);  // a one-node walk answers less
+    EXPECT_THROW(make_rtt_tracer(scene, tree, {.walk_budget_base = 0}), Error);
+    EXPECT_THROW(make_rtt_tracer(scene, tree, {.lean_max_samples = -1}), Error);
+    EXPECT_THROW(make_rtt_tracer(scene, tree, {.deferred_budget_base = 0}), Error);
 }
 
 TEST(LibraryApi, SceneFromMeshIsValidated) {

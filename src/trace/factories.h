@@ -15,9 +15,6 @@ std::unique_ptr<Tracer> make_ray_tracer(const Scene& scene, const KdTree& tree);
 /// targets AVX2 / AVX-512 (RTT_HAVE_SIMD8 / RTT_HAVE_SIMD16 in simd/simd.h).
 template <int K>
 std::unique_ptr<Tracer> make_packet_tracer(const Scene& scene, const KdTree& tree);
-/// Relevant triangles tracing (trace_rtt.cpp): "rtt", and "rtt-paper" with the paper's rules.
-std::unique_ptr<Tracer> make_rtt_tracer(const Scene& scene, const KdTree& tree);
-std::unique_ptr<Tracer> make_rtt_paper_tracer(const Scene& scene, const KdTree& tree);
 #ifdef RTT_HAVE_EMBREE
 /// Embree 3 (trace_embree.cpp): "embree" traces 4x4 blocks with rtcIntersect16/rtcOccluded16,
 /// "embree1" one ray at a time. Both ignore `tree` and build their own BVH.

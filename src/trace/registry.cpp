@@ -2,6 +2,7 @@
 #include <functional>
 
 #include "rtt/error.h"
+#include "rtt/rtt_options.h"
 #include "rtt/tracer.h"
 #include "simd/simd.h"
 #include "trace/factories.h"
@@ -30,8 +31,8 @@ const std::vector<TracerEntry>& registry() {
         {"ray", make_ray_tracer},
         {"brute", make_brute_force_tracer},
         {"packet", make_packet_tracer<4>},
-        {"rtt", make_rtt_tracer},
-        {"rtt-paper", make_rtt_paper_tracer},
+        {"rtt", [](const Scene& s, const KdTree& t) { return make_rtt_tracer(s, t); }},
+        {"rtt-paper", [](const Scene& s, const KdTree& t) { return make_rtt_tracer(s, t, {.rules = RttRules::paper}); }},
 #ifdef RTT_HAVE_SIMD8
         {"packet8", make_packet_tracer<8>},
 #endif

@@ -2,6 +2,8 @@
 // corner rays of a tile, and the plane a shaft's rays end on.
 #pragma once
 
+#include "rtt/rtt_options.h"
+
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -15,7 +17,7 @@
 namespace rtt {
 
 /// Largest tile RTT takes on: 4x4 pixels with 16 x 16 antialiasing.
-inline constexpr int rtt_max_tile_samples = 64 * 64;
+inline constexpr int rtt_max_tile_samples = rtt_max_samples_per_tile;
 
 /// One bit per sample of a tile: the samples still to be traced. Only the words a tile of
 /// `n` samples uses are cleared.

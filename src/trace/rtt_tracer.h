@@ -21,30 +21,14 @@ inline constexpr int inner_width = simd_max_width;
 /// Packet width of the fallback for rays RTT does not answer: the widest packets, whose
 /// tracer is the fastest (4x4 samples per packet with AVX-512).
 inline constexpr int fallback_width = simd_max_width;
-/// Nodes shaft culling may enter for a tile of n samples before "rtt-paper" gives the tile up:
-/// its corners missed much of what the shaft crosses, and tracing is cheaper (measured at K = 1).
-inline constexpr int deferred_budget(int n) {
-    return 8 + n;
-}
-/// Nodes the shaft walk of "rtt" (rtt_cull.h) may enter for a tile of n samples before it gives
-/// the tile up and traces it: at K = 1 about what one 16-wide packet visits for the whole tile
-/// (45.6 inner nodes and 12.7 leaves per 4x4 tile on room, 640x480), so RTT stops where it can
-/// no longer be cheaper than tracing. A cost rule, not an exactness one.
-inline constexpr int cull_budget(int n) {
-    return 48 + n;
-}
-/// Largest tile (samples) of rays from the apex that "rtt" answers with the lean corner pass
-/// (rtt-paper's corner packet stopped at the first sign of incoherence) instead of the shaft
-/// walk: 4x4 and 8x8 samples (K = 1, 2). There the walk's answers within the slab (corners on
-/// several planes) do not pay for its cost, and a tile the lean pass cannot answer costs part of
-/// a corner packet instead of a walk up to its budget. Measured in docs/benchmarks.md, "The lean
-/// corner pass at K = 2".
-inline constexpr int lean_max_samples = 64;
+// The budgets and the lean pass's extent are RttOptions (include/rtt/rtt_options.h); the
+// defaults there were measured in docs/benchmarks.md ("The lean corner pass at K = 2", "What an
+// answered tile costs"). Cost rules, not exactness ones.
 /// Whether a primary or reflected shaft tile of n samples whose corners are `corners` takes the
 /// lean pass. Reflected tiles start on their mirror plane, not at the apex, and the corners'
 /// intervals part at the first splits near it: at K = 2 the walk answers 3x more of their rays
 /// and is faster; at K = 1 the lean pass stays slightly faster.
-inline bool takes_lean_pass(int n, const Ray (&corners)[4]) {
+inline bool takes_lean_pass(int n, int lean_max_samples, const Ray (&corners)[4]) {
     if (n == 16) return true;
     if (n > lean_max_samples) return false;
     for (const Ray& c : corners)
@@ -60,17 +44,18 @@ inline thread_local CornerResult tls_corners;
 
 class RttTracer final : public Tracer {
 public:
-    /// `extended` ("rtt"): corners and list from one shaft walk (rtt_cull.h), whatever the
-    /// paper's incoherence flag would say; primary tiles whose corners hit several triangles of
-    /// one plane (and, from 8x8 samples on, of several planes) are answered too. false
+    /// RttRules::extended ("rtt"): corners and list from one shaft walk (rtt_cull.h), whatever
+    /// the paper's incoherence flag would say; primary tiles whose corners hit several triangles
+    /// of one plane (and, from 8x8 samples on, of several planes) are answered too. paper
     /// ("rtt-paper"): the paper's corner packet (rtt_corners.h) and rules, coherent corners on
     /// one triangle (shadows: coherent corners).
-    RttTracer(const Scene& scene, const KdTree& tree, bool extended)
+    RttTracer(const Scene& scene, const KdTree& tree, const RttOptions& options)
         : tree_(tree),
           triangles_(gather_triangles(scene)),
           planes_(compute_plane_ids(triangles_)),
           normals_(triangles_, planes_),
-          extended_(extended) {}
+          options_(options),
+          extended_(options.rules == RttRules::extended) {}
     std::string_view name() const override { return extended_ ? "rtt" : "rtt-paper"; }
 
     void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
@@ -120,6 +105,12 @@ private:
     std::vector<TriangleVerts> triangles_;
     PlaneIds planes_;
     PlaneNormals normals_;
+    /// Nodes the shaft walk (rtt_cull.h) and the paper's culling of deferred nodes may enter
+    /// for a tile of n samples before the tile is traced instead.
+    int walk_budget(int n) const { return options_.walk_budget_base + options_.walk_budget_per_sample * n; }
+    int deferred_budget(int n) const { return options_.deferred_budget_base + n; }
+
+    RttOptions options_;
     bool extended_;
 };
 

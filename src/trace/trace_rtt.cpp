@@ -1,6 +1,10 @@
 // The RTT tracer: tiles of primary and reflected rays, and the factories (trace_rtt.h).
 #include "trace/trace_rtt.h"
 
+#include <string>
+
+#include "rtt/error.h"
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -93,7 +97,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
     corners_of(tile, corners, cs);
     // The lean pass builds the slope quad only when it first needs it (most that give up do
     // not).
-    const bool lean = extended_ && takes_lean_pass(n, corners);
+    const bool lean = extended_ && takes_lean_pass(n, options_.lean_max_samples, corners);
     if (!(lean ? make_shaft_corners(corners, shaft) : make_shaft(corners, shaft))) {
         trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
         return;
@@ -152,7 +156,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
             return Narrowed::smaller;
         };
         const CornerStatus status = cull_shaft<false>(tree_, triangles_, shaft, walk_region,
-                                                      cull_budget(n), tls_mailbox, res, narrow);
+                                                      walk_budget(n), tls_mailbox, res, narrow);
         if (status == CornerStatus::untraced) {
             trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
             return;
@@ -281,12 +285,16 @@ uint64_t RttTracer::answer_primary(const RayTile& tile, const Shaft& s, const Re
 
 }  // namespace rtt_detail
 
-std::unique_ptr<Tracer> make_rtt_tracer(const Scene& scene, const KdTree& tree) {
-    return std::make_unique<rtt_detail::RttTracer>(scene, tree, true);
+void RttOptions::validate() const {
+    if (walk_budget_base < 1 || walk_budget_per_sample < 0 || deferred_budget_base < 1)
+        throw Error("RttOptions: the walk and deferred budgets must be at least 1 node (per-sample part >= 0)");
+    if (lean_max_samples < 0 || lean_max_samples > rtt_max_samples_per_tile)
+        throw Error("RttOptions: lean_max_samples must be in 0.." + std::to_string(rtt_max_samples_per_tile));
 }
 
-std::unique_ptr<Tracer> make_rtt_paper_tracer(const Scene& scene, const KdTree& tree) {
-    return std::make_unique<rtt_detail::RttTracer>(scene, tree, false);
+std::unique_ptr<Tracer> make_rtt_tracer(const Scene& scene, const KdTree& tree, const RttOptions& options) {
+    options.validate();
+    return std::make_unique<rtt_detail::RttTracer>(scene, tree, options);
 }
 
 }  // namespace rtt

@@ -24,7 +24,7 @@
 // Everything else (tiles without shaft, inner rays failing a check) is traced by the SIMD
 // packet tracer, so answers always equal trace_ray's, ray for ray.
 //
-// At K = 1 and 2 (up to 8x8 samples, lean_max_samples) "rtt" takes rtt-paper's corner packet
+// At K = 1 and 2 (up to 8x8 samples, RttOptions::lean_max_samples) "rtt" takes rtt-paper's corner packet
 // instead of the walk, stopped at the first sign of incoherence (the tile is then traced by the
 // widest packets), with the walk's one-plane rule for the end of R (trace_rtt.cpp, measured in
 // docs/benchmarks.md).
@@ -43,15 +43,11 @@
 
 #include "rtt/kdtree.h"
 #include "rtt/scene.h"
+#include "rtt/rtt_options.h"
 #include "rtt/tracer.h"
 
 namespace rtt {
 
-/// The "rtt" tracer over `scene` and `tree` (both must outlive it). Computes the triangles'
-/// plane ids at construction.
-std::unique_ptr<Tracer> make_rtt_tracer(const Scene& scene, const KdTree& tree);
-
-/// The "rtt-paper" tracer: the paper's conditions (coherent corners; one triangle).
-std::unique_ptr<Tracer> make_rtt_paper_tracer(const Scene& scene, const KdTree& tree);
+// make_rtt_tracer (include/rtt/rtt_options.h) builds both, from RttOptions::rules.
 
 }  // namespace rtt
