@@ -1,4 +1,4 @@
-// Pieces shared by the experiment files (not used outside src/bench).
+// Pieces shared by the experiment files (not used outside src/experiments).
 #pragma once
 
 #include <string>
