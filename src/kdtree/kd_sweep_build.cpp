@@ -141,7 +141,10 @@ private:
 
         // Straddling triangles: clip them to each child (perfect splits); a child they do not
         // touch drops them.
-        auto& [clipped_left, clipped_right] = scratch.clipped;
+        // Plain references, not a structured binding: clang 14 cannot capture bindings in the
+        // lambda below.
+        auto& clipped_left = scratch.clipped[0];
+        auto& clipped_right = scratch.clipped[1];
         clipped_left.clear();
         clipped_right.clear();
         size_t only_left = 0, only_right = 0;
