@@ -186,9 +186,17 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const 
             int finished = 0;
             std::vector<char> bytes;
             while (finished < world_size - 1) {
+                // Poll and sleep rather than block: Open MPI's blocking receive spins, and the
+                // spinning dispatcher would take a core from rank 0's render threads.
+                int waiting = 0;
                 MPI_Status status;
+                MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &waiting, &status);
+                if (!waiting) {
+                    std::this_thread::sleep_for(std::chrono::microseconds(200));
+                    continue;
+                }
                 int header[2];
-                MPI_Recv(header, 2, MPI_INT, MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &status);
+                MPI_Recv(header, 2, MPI_INT, status.MPI_SOURCE, status.MPI_TAG, MPI_COMM_WORLD, &status);
                 const int from = status.MPI_SOURCE;
                 if (status.MPI_TAG == request) {
                     int b[2] = {-1, 0};
