@@ -8,6 +8,8 @@ packages=(
   libgtest-dev libbenchmark-dev libembree-dev
   python3-dev pybind11-dev python3-numpy python3-pytest  # the Python module and its tests
   libopenmpi-dev openmpi-bin                             # distributed rendering under mpirun
+  libglfw3-dev libgl-dev libgl1-mesa-dri  # rtt view: a window (GLFW) drawn with OpenGL (Mesa)
+  xvfb xauth xdotool                      # its tests: a headless X server and synthetic input
   clang libclang-rt-14-dev  # scripts/fuzz.sh: libFuzzer and the sanitizer runtimes for clang 14
   llvm                      # llvm-symbolizer: function names and lines in clang's sanitizer reports
 )

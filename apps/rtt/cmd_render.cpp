@@ -239,21 +239,11 @@ RenderJobResult run_render_job(const RenderJob& job) {
     if (writer) print_warnings(loaded.scene);
     Scene& scene = loaded.scene;
     const Bbox3f bounds = scene.bounds();
-    const auto camera_of = [&](size_t frame) {
-        if (!path.empty()) return path[frame];
-        if (camera) return *camera;
-        return scene.camera && !loaded.from_mesh ? *scene.camera : default_camera_for(bounds);
-    };
+    const Camera start = starting_camera(loaded, camera);
+    const auto camera_of = [&](size_t frame) { return path.empty() ? start : path[frame]; };
     opt.camera = camera_of(0);
     // A mesh (or a scene without lights) is lit from the eye: everything visible is lit.
-    const bool lit_from_eye = light_positions.empty() && scene.lights.empty();
-    if (!light_positions.empty()) {
-        scene.lights.clear();
-        for (const Vec3f& p : light_positions)
-            scene.lights.push_back(make_point_light(p, bounds, light_positions.size()));
-    } else if (lit_from_eye) {
-        scene.lights.push_back(make_point_light(opt.camera.position, bounds, 1));
-    }
+    const bool lit_from_eye = set_up_lights(scene, light_positions, opt.camera.position);
     validate(scene);
     opt.validate(scene.lights.size());
 

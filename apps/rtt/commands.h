@@ -14,6 +14,8 @@ void add_info_command(CLI::App& app);
 void add_scenes_command(CLI::App& app);
 /// `rtt bench`: the paper's experiments and Embree on the same rays (cmd_bench.cpp).
 void add_bench_command(CLI::App& app);
+/// `rtt view`: the interactive viewer (apps/rtt/view/; only in builds with GLFW).
+void add_view_command(CLI::App& app);
 
 /// `rtt` without arguments: the default main job (renders the built-in room to room.png and
 /// prints the statistics).

@@ -38,6 +38,9 @@ int main(int argc, char** argv) {
     rtt::cli::add_info_command(app);
     rtt::cli::add_scenes_command(app);
     rtt::cli::add_bench_command(app);
+#ifdef RTT_HAVE_VIEWER
+    rtt::cli::add_view_command(app);
+#endif
     try {
         app.parse(argc, argv);  // runs the chosen subcommand's callback
         if (app.get_subcommands().empty()) rtt::cli::run_default_job();

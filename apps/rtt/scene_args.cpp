@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "rtt/builtin_scenes.h"
+#include "rtt/camera.h"
+#include "rtt/render.h"
 #include "rtt/error.h"
 #include "rtt/scene_io.h"
 
@@ -65,6 +67,25 @@ LoadedScene load_scene_quietly(const SceneArgs& args) {
                     "; or give a JSON scene file)");
     }
     return out;
+}
+
+Camera starting_camera(const LoadedScene& loaded, const std::optional<Camera>& given) {
+    if (given) return *given;
+    if (loaded.scene.camera && !loaded.from_mesh) return *loaded.scene.camera;
+    return default_camera_for(loaded.scene.bounds());
+}
+
+bool set_up_lights(Scene& scene, const std::vector<Vec3f>& positions, const Vec3f& eye) {
+    const Bbox3f bounds = scene.bounds();
+    if (!positions.empty()) {
+        scene.lights.clear();
+        for (const Vec3f& p : positions)
+            scene.lights.push_back(make_point_light(p, bounds, positions.size()));
+        return false;
+    }
+    if (!scene.lights.empty()) return false;
+    scene.lights.push_back(make_point_light(eye, bounds, 1));
+    return true;
 }
 
 }  // namespace rtt::cli

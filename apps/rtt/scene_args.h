@@ -2,7 +2,9 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "rtt/math.h"
 #include "rtt/scene.h"
@@ -34,5 +36,14 @@ LoadedScene load_scene(const SceneArgs& args);
 LoadedScene load_scene_quietly(const SceneArgs& args);
 /// The importer's warnings on stderr: a few lines, then how many more there were.
 void print_warnings(const Scene& scene);
+
+/// The camera a command starts from: `given` (--camera) if any, else the scene's own (not for a
+/// --mesh), else one looking at the scene's bounds from a diagonal.
+Camera starting_camera(const LoadedScene& loaded, const std::optional<Camera>& given);
+
+/// Puts the lights of --light (omni lights at `positions`) in place of the scene's; a scene
+/// left without lights gets one omni light at `eye`. Returns true in that case: the light is
+/// then "lit from the eye", and the caller moves it with the camera (make_point_light).
+bool set_up_lights(Scene& scene, const std::vector<Vec3f>& positions, const Vec3f& eye);
 
 }  // namespace rtt::cli

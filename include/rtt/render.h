@@ -74,11 +74,14 @@ struct RenderOptions {
     bool primary_map = false;    ///< Fill RenderResult::primary_map (Figure 5b).
     int shadow_map_light = -1;   ///< >= 0: fill RenderResult::shadow_map for this light (Fig. 5c).
     bool pixel_hits = false;     ///< Fill RenderResult::depth and first_triangle.
+    /// Trace shadow segments. false: every light lights every point it faces (the viewer's
+    /// shadows-off mode); no shadow buffer or shadow map then.
+    bool shadows = true;
     bool progress = false;       ///< Progress bar on stderr (only when stderr is a terminal
                                  ///< and the render takes longer than about a second).
 
-    /// Throws rtt::Error for a size, K, depth, thread count or map light out of range, or a
-    /// sample count above max_render_samples. `light_count` is the scene's number of lights.
+    /// Throws rtt::Error for a size, K, depth, thread count or map light out of range, a
+    /// shadow buffer or map without shadows, or a sample count above max_render_samples. `light_count` is the scene's number of lights.
     void validate(size_t light_count) const;
 };
 

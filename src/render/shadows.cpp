@@ -28,6 +28,12 @@ void trace_shadows(const RenderContext& ctx, ThreadStats& ts, const RayBatch& ba
             any |= active[i] != 0;
         }
         if (!any) continue;
+        const uint32_t bit = 1u << l;
+        if (!ctx.options.shadows) {  // validate() keeps buffers and maps away from this mode
+            for (size_t i = 0; i < n; ++i)
+                if (lightable[i]) lit[i] |= bit;
+            continue;
+        }
         const SegmentTile tile{batch.width, batch.height, ctx.lights[l].light->position,
                                points,      triangles,    active,
                                batch.shaft};
@@ -38,7 +44,6 @@ void trace_shadows(const RenderContext& ctx, ThreadStats& ts, const RayBatch& ba
             answers = record->shadow_answers;
         }
         timed(kind, [&] { ctx.tracer.occluded(tile, visible, &kind.trace, answers); });
-        const uint32_t bit = 1u << l;
         for (size_t i = 0; i < n; ++i) {
             if (!active[i] || !visible[i]) continue;
             if (lightable[i]) lit[i] |= bit;

@@ -51,6 +51,8 @@ void RenderOptions::validate(size_t light_count) const {
     if (shadow_map_light >= 0 && size_t(shadow_map_light) >= light_count)
         throw Error("shadow map light " + std::to_string(shadow_map_light) +
                     " does not exist (the scene has " + std::to_string(light_count) + " lights)");
+    if (!shadows && (shadow_buffer || shadow_map_light >= 0))
+        throw Error("a shadow buffer or shadow map needs shadow segments (shadows are off)");
 }
 
 namespace render_detail {

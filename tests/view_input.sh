@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Drives `rtt view` in a real window with synthetic input (run under xvfb-run by
+# tests/view_test.cpp): prints the camera (C), orbits with a left drag, dollies with the wheel,
+# flies with W held, prints it again, switches tracer (T) and quits with Escape.
+# Usage: view_input.sh RTT OUTPUT_FILE; exits with rtt's code.
+set -u
+rtt=$1 out=$2
+"$rtt" view --scene room --size 96x72 -q >"$out" 2>&1 &
+pid=$!
+window=""
+for _ in $(seq 200); do
+  window=$(xdotool search --name '^rtt view' 2>/dev/null | head -1)
+  [ -n "$window" ] && break
+  sleep 0.05
+done
+[ -n "$window" ] || { kill "$pid"; echo "no window appeared" >>"$out"; exit 1; }
+xdotool windowfocus --sync "$window"
+step() { "$@"; sleep 0.2; }
+step xdotool key c
+step xdotool mousemove --window "$window" 40 40
+step xdotool mousedown 1
+step xdotool mousemove --window "$window" 60 45
+step xdotool mouseup 1
+step xdotool click 4
+step xdotool keydown w
+step xdotool keyup w
+step xdotool key t
+step xdotool key c
+xdotool key Escape
+wait "$pid"
