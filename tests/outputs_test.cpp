@@ -9,11 +9,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <chrono>
 #include <cstring>
+#include <thread>
 #include <fstream>
 #include <vector>
 
 #include "cli_run.h"
+#include "render/progress.h"
 #include "rtt/error.h"
 #include "rtt/io.h"
 
@@ -219,3 +222,28 @@ TEST(Outputs, CameraPathRendersNumberedFramesLikeSingleRenders) {
 
 }  // namespace
 }  // namespace rtt
+
+namespace rtt::test {
+namespace {
+
+TEST(Progress, LogsGetOneLinePerLongPhaseAndNothingForShortOnes) {
+    // gtest's capture sends stderr to a file: the case of a log, not a terminal.
+    testing::internal::CaptureStderr();
+    { const render_detail::ProgressBar quick(0, true, "loading the scene"); }
+    {
+        const render_detail::ProgressBar slow(0, true, "building the kd-tree");
+        std::this_thread::sleep_for(std::chrono::milliseconds(1050));
+    }
+    {
+        const render_detail::ProgressBar quiet(0, false, "rendering");
+        std::this_thread::sleep_for(std::chrono::milliseconds(1050));
+    }
+    const std::string err = testing::internal::GetCapturedStderr();
+    EXPECT_EQ(err.rfind("rtt: building the kd-tree took 1.", 0), 0u) << err;
+    EXPECT_EQ(err.find("loading"), std::string::npos) << err;
+    EXPECT_EQ(err.find("rendering"), std::string::npos) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+}
+
+}  // namespace
+}  // namespace rtt::test

@@ -86,8 +86,15 @@ void run(const BenchArgs& args, const std::vector<Experiment>& experiments) {
         }
     };
     bench::SceneCache scenes;
-    for (Experiment e : experiments) {
-        doc.experiments.push_back(e(config, scenes));
+    config.start = start;
+    for (size_t i = 0; i < experiments.size(); ++i) {
+        if (experiments.size() > 1) {
+            std::printf("\nrtt bench: experiment %zu of %zu, %.0f s into the run\n", i + 1,
+                        experiments.size(),
+                        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+            std::fflush(stdout);
+        }
+        doc.experiments.push_back(experiments[i](config, scenes));
         save();
     }
 

@@ -64,8 +64,10 @@ Measurement run_measurement(const BenchConfig& config, const BenchScene& scene,
     options.repetitions = config.repetitions;
     options.threads = threads;
     const Measurement m = measure(workload, tracers, options);
-    std::fprintf(config.log, "  measured %s (load %.1f)\n", measurement_summary(m).c_str(),
-                 load_average());
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - config.start).count();
+    std::fprintf(config.log, "  measured %s (load %.1f, %.0f s into the run)\n",
+                 measurement_summary(m).c_str(), load_average(), elapsed);
     std::fflush(config.log);
     return m;
 }

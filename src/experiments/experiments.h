@@ -14,6 +14,7 @@
 // at 512x384), which --long runs too (about half an hour).
 #pragma once
 
+#include <chrono>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -37,6 +38,8 @@ struct BenchConfig {
     ClockKind clock = ClockKind::cpu;
     std::string out_dir = "bench-results";  ///< Plots and images.
     std::FILE* log = stdout;                ///< Tables and progress.
+    /// When the run started: progress lines show the time elapsed since.
+    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
 
     bool quick() const { return mode == BenchMode::quick; }
     /// The value for this config's mode.

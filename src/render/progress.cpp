@@ -15,10 +15,18 @@ constexpr int bar_width = 40;
 
 ProgressBar::ProgressBar(uint64_t total, bool enabled, const char* label)
     : total_(total), label_(label), start_(std::chrono::steady_clock::now()) {
-    if (enabled && isatty(STDERR_FILENO)) thread_ = std::thread([this] { run(); });
+    if (!enabled) return;
+    if (isatty(STDERR_FILENO)) thread_ = std::thread([this] { run(); });
+    else summary_ = true;
 }
 
 ProgressBar::~ProgressBar() {
+    if (summary_) {
+        // Logs get one line per long phase instead of a bar.
+        const std::chrono::duration<double> took = std::chrono::steady_clock::now() - start_;
+        if (took >= show_after) std::fprintf(stderr, "rtt: %s took %.1f s\n", label_, took.count());
+        return;
+    }
     if (!thread_.joinable()) return;
     {
         std::lock_guard<std::mutex> lock(mutex_);

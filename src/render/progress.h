@@ -14,7 +14,8 @@ namespace rtt::render_detail {
 /// Draws "rendering [#####.....]  47%  3.1 s, 3.5 s left" (or "building the kd-tree ...  2.0 s"
 /// when `total` is 0: work of unknown length) on stderr, from its own thread. Shown only when
 /// enabled, stderr is a terminal and the work has run for about a second; the line is cleared
-/// when the bar is destroyed.
+/// when the bar is destroyed. When stderr is not a terminal (a log file), a phase that took a
+/// second or more gets one line "rtt: <label> took 2.3 s" instead.
 class ProgressBar {
 public:
     ProgressBar(uint64_t total, bool enabled, const char* label = "rendering");
@@ -37,6 +38,7 @@ private:
     std::condition_variable wake_;
     bool stop_ = false;
     bool drawn_ = false;
+    bool summary_ = false;  ///< Enabled but stderr is no terminal: one line at the end.
     std::thread thread_;
 };
 
