@@ -2,7 +2,9 @@
 # Distributed rendering under mpirun on this host (README, "Distributed rendering"):
 #  1. -np 2 and -np 3 (oversubscribed) give the same bytes as one process, for the image, the
 #     hit and shadow buffers and the RTT map;
-#  2. a rank killed mid-render ends the job with a non-zero status and no output file.
+#  2. a rank killed mid-render, a rank stopped (hung) past --rank-timeout, and a scene file that
+#     is bad on one rank only each end the job with a non-zero status, a line naming the rank,
+#     and no output file.
 # Skips (status 0, a message) when the build has no MPI or mpirun is missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -29,23 +31,58 @@ for np in 2 3; do
   echo "mpi-tests: -np $np: image, hits, shadows and map identical to one process"
 done
 
-# A rank killed mid-render: the job must fail and leave no output.
+# The pid of rank 1 of a job whose command line contains $1.
+rank1_of() {
+  local victim="" p
+  for _ in $(seq 1 200); do
+    for p in $(pgrep -f "$1" || true); do
+      if tr '\0' '\n' < /proc/$p/environ 2>/dev/null | grep -qx OMPI_COMM_WORLD_RANK=1; then victim=$p; fi
+    done
+    [ -n "$victim" ] && break
+    sleep 0.05
+  done
+  [ -n "$victim" ] || { echo "mpi-tests: rank 1 never started" >&2; exit 1; }
+  echo "$victim"
+}
+
+# Runs a job that must fail: non-zero status, mpirun's output holding $1, no file named $2*.
+expect_failure() {
+  local pattern=$1 outputs=$2 status=$3
+  if [ "$status" -eq 0 ]; then echo "mpi-tests: the job did not fail ($pattern)" >&2; exit 1; fi
+  if ls "$outputs"* ".$outputs"* >/dev/null 2>&1; then echo "mpi-tests: a failed job left output" >&2; exit 1; fi
+  grep -q "$pattern" mpirun.log || { echo "mpi-tests: no '$pattern' in:" >&2; cat mpirun.log >&2; exit 1; }
+  echo "mpi-tests: exit status $status, no output; $(grep -m1 "$pattern" mpirun.log)"
+}
+
+# A rank killed mid-render.
 "${mpi[@]}" -np 2 "$rtt" render --scene office --size 1024x768 --aa 3 --threads 1 -q -o killed.png \
   --hits killed.rtth > mpirun.log 2>&1 &
 launcher=$!
-victim=""
-for _ in $(seq 1 200); do
-  for p in $(pgrep -f "$rtt render --scene office" || true); do
-    if tr '\0' '\n' < /proc/$p/environ 2>/dev/null | grep -qx OMPI_COMM_WORLD_RANK=1; then victim=$p; fi
-  done
-  [ -n "$victim" ] && break
-  sleep 0.05
-done
-[ -n "$victim" ] || { echo "mpi-tests: rank 1 never started" >&2; exit 1; }
+victim=$(rank1_of "$rtt render --scene office")
 sleep 2  # loading and building: the kill falls in the middle of the job
 kill -9 "$victim"
 status=0
 wait $launcher || status=$?
-if [ $status -eq 0 ]; then echo "mpi-tests: the job survived a killed rank" >&2; exit 1; fi
-if ls killed.png killed.rtth .killed* >/dev/null 2>&1; then echo "mpi-tests: a killed job left output" >&2; exit 1; fi
-echo "mpi-tests: killed rank 1 -> mpirun exit status $status, no output; mpirun said: $(grep -m1 -i 'rank\|signal\|exited' mpirun.log || true)"
+expect_failure "signal 9" killed $status
+
+# A rank that hangs (stopped by SIGSTOP) while the others render: rank 0 gives up after
+# --rank-timeout seconds and names it.
+"${mpi[@]}" -np 2 "$rtt" render --scene room --size 1024x768 --aa 3 --threads 1 -q -o hung.png \
+  --rank-timeout 3 > mpirun.log 2>&1 &
+launcher=$!
+victim=$(rank1_of "$rtt render --scene room --size 1024x768")
+sleep 1
+kill -STOP "$victim"
+status=0
+wait $launcher || status=$?
+expect_failure "rank 1 has not" hung $status
+
+# A scene that loads on rank 0 and is malformed on rank 1 (each rank reads its own folder, as on
+# machines whose copies of a file differ): the job stops with rank 1's error, no hang.
+mkdir r0 r1
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > r0/scene.obj
+printf 'v 0 0 0\nf 1 2 x\n' > r1/scene.obj
+status=0
+timeout 60 "${mpi[@]}" -np 2 bash -c "cd r\$OMPI_COMM_WORLD_RANK && exec '$rtt' render --mesh scene.obj \
+  --size 64x48 -q -o '$work/badscene.png'" > mpirun.log 2>&1 || status=$?
+expect_failure "rank 1 of 2: scene.obj:2" badscene $status

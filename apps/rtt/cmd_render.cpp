@@ -266,7 +266,7 @@ RenderJobResult run_render_job(const RenderJob& job) {
         opt.camera = camera_of(frame);
         if (lit_from_eye) scene.lights[0] = make_point_light(opt.camera.position, bounds, 1);
         out.ranks.clear();
-        out.result = mpi_distributed() ? render_distributed(scene, *tracer, opt, &out.ranks)
+        out.result = mpi_distributed() ? render_distributed(scene, *tracer, opt, &out.ranks, job.rank_timeout)
                                        : render(scene, *tracer, opt);
         if (!writer) continue;
         // One frame's outputs are written all or none; earlier frames stay.
@@ -326,6 +326,11 @@ void add_render_command(CLI::App& app) {
                   "Print rays, time and Mrays/s per kind (primary, shadow, secondary)");
     cmd->add_option("--stats-json", job->stats_json, "Write the statistics as JSON");
     cmd->add_flag("-q,--quiet", job->quiet, "No progress bar");
+    cmd->add_option("--rank-timeout", job->rank_timeout,
+                    "Under mpirun: seconds a rank may hold a band (at least; 10x the slowest band "
+                    "so far) before rank 0 stops the job as hung")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--rtt-map-primary", job->map_primary,
                     "PNG of the primary samples RTT answered (white) or traced (black), Figure 5b");
     cmd->add_option("--rtt-map-shadow", job->map_shadow,

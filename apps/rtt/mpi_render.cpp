@@ -29,7 +29,7 @@ void mpi_abort(const std::string& message) {
     std::exit(1);
 }
 RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const RenderOptions& options,
-                                std::vector<RankStats>*) {
+                                std::vector<RankStats>*, double) {
     return render(scene, tracer, options);
 }
 
@@ -159,7 +159,7 @@ void mpi_abort(const std::string& message) {
 }
 
 RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const RenderOptions& options,
-                                std::vector<RankStats>* ranks) {
+                                std::vector<RankStats>* ranks, double timeout_seconds) {
     options.validate(scene.lights.size());
     const int tiles_x = (options.width + 3) / 4, tiles_y = (options.height + 3) / 4;
     // About 8 bands per rank: small enough to balance, large enough that a band's tiles keep a
@@ -181,10 +181,18 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const 
             count = std::min(band_rows, tiles_y - first);
             return true;
         };
-        // The dispatcher: the only thread of rank 0 that calls MPI while the render runs.
+        // The dispatcher: the only thread of rank 0 that calls MPI while the render runs. It
+        // also watches the other ranks: one that holds a band, or leaves rank 0 waiting at the
+        // end, for longer than the timeout stops the job (docs/distributed.md, "Faults").
+        std::atomic<bool> own_done{false};
         std::thread dispatcher([&] {
             int finished = 0;
             std::vector<char> bytes;
+            std::vector<int> held(size_t(world_size), -1);  // first row of a rank's band, -1 none
+            std::vector<Clock::time_point> since(size_t(world_size), start);
+            std::vector<bool> done(size_t(world_size), false);
+            double slowest_band = 0;
+            Clock::time_point own_done_at{};
             while (finished < world_size - 1) {
                 // Poll and sleep rather than block: Open MPI's blocking receive spins, and the
                 // spinning dispatcher would take a core from rank 0's render threads.
@@ -193,6 +201,24 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const 
                 MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &waiting, &status);
                 if (!waiting) {
                     std::this_thread::sleep_for(std::chrono::microseconds(200));
+                    // A band may take up to 10x the slowest one so far, and never less than the
+                    // timeout; a rank with no band is waited for once rank 0 has nothing left.
+                    const double limit = std::max(timeout_seconds, 10 * slowest_band);
+                    if (own_done && own_done_at == Clock::time_point{}) own_done_at = Clock::now();
+                    for (int r = 1; r < world_size; ++r) {
+                        if (done[size_t(r)]) continue;
+                        if (held[size_t(r)] >= 0 && seconds_since(since[size_t(r)]) > limit)
+                            mpi_abort("rank " + std::to_string(r) + " has not returned pixel rows " +
+                                      std::to_string(4 * held[size_t(r)]) + ".. after " +
+                                      std::to_string(int(seconds_since(since[size_t(r)]))) +
+                                      " s (hung or far slower than the others; --rank-timeout)");
+                        if (held[size_t(r)] < 0 && own_done_at != Clock::time_point{} &&
+                            seconds_since(std::max(since[size_t(r)], own_done_at)) > limit)
+                            mpi_abort("rank " + std::to_string(r) + " has not asked for work for " +
+                                      std::to_string(int(limit)) +
+                                      " s while rank 0 waits to finish (hung while loading or "
+                                      "building?; --rank-timeout)");
+                    }
                     continue;
                 }
                 int header[2];
@@ -200,8 +226,9 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const 
                 const int from = status.MPI_SOURCE;
                 if (status.MPI_TAG == request) {
                     int b[2] = {-1, 0};
-                    if (!take_band(b[0], b[1])) b[0] = -1, ++finished;
+                    if (!take_band(b[0], b[1])) b[0] = -1, ++finished, done[size_t(from)] = true;
                     MPI_Send(b, 2, MPI_INT, from, band, MPI_COMM_WORLD);
+                    held[size_t(from)] = b[0];
                 } else if (status.MPI_TAG == result_header) {
                     const int first_row = header[0], rows = header[1];
                     int size = 0;
@@ -211,7 +238,10 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const 
                     bytes.resize(size_t(size));
                     MPI_Recv(bytes.data(), size, MPI_BYTE, from, result_data, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
                     unpack(bytes.data(), whole, first_row, BandLayout(options, rows));
+                    slowest_band = std::max(slowest_band, seconds_since(since[size_t(from)]));
+                    held[size_t(from)] = -1;
                 }
+                since[size_t(from)] = Clock::now();
             }
         });
         auto busy_start = Clock::now();
@@ -221,6 +251,7 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const 
             mine.tiles += uint64_t(band.rows + 3) / 4 * uint64_t(tiles_x);
         });
         mine.busy_seconds = seconds_since(busy_start);
+        own_done = true;
         dispatcher.join();
     } else {
         double busy = 0;

@@ -38,10 +38,16 @@ struct RankStats {
     double idle_seconds = 0;   ///< Wall time waiting for bands or for the others to finish.
 };
 
+/// Default of --rank-timeout: seconds rank 0 waits for a rank's band (or, once rank 0 has
+/// nothing left to render, for a rank to ask for work) before it stops the job.
+inline constexpr double default_rank_timeout = 120;
+
 /// render() distributed over the ranks. Every rank must call it with the same scene and options.
 /// Rank 0 gets the whole result, with the ray statistics summed over the ranks, and (if
-/// `ranks`) every rank's RankStats; other ranks get an empty result.
+/// `ranks`) every rank's RankStats; other ranks get an empty result. A rank silent for longer
+/// than max(timeout_seconds, 10x the slowest band so far) ends the job (mpi_abort naming it).
 RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const RenderOptions& options,
-                                std::vector<RankStats>* ranks = nullptr);
+                                std::vector<RankStats>* ranks = nullptr,
+                                double timeout_seconds = default_rank_timeout);
 
 }  // namespace rtt::cli

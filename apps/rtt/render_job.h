@@ -32,6 +32,7 @@ struct RenderJob {
     bool stats = false;
     std::string stats_json;
     bool quiet = false;
+    double rank_timeout = default_rank_timeout;  ///< --rank-timeout (under mpirun).
 };
 
 /// What a job did, for callers that report more than the job itself prints.
