@@ -9,6 +9,7 @@
 #include <mutex>
 #include <thread>
 
+#include "render/progress.h"
 #include "rtt/error.h"
 
 #ifdef RTT_HAVE_MPI
@@ -170,10 +171,11 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const 
     RenderResult whole;
     RenderStats stats;
     RenderOptions local = options;
-    local.progress = options.progress && world_rank == 0;
+    local.progress = false;  // rank 0's bar below counts every rank's bands
 
     if (world_rank == 0) {
         allocate_whole(whole, options);
+        render_detail::ProgressBar progress(uint64_t(tiles_y), options.progress);
         std::atomic<int> next_row{0};
         const auto take_band = [&](int& first, int& count) {
             first = next_row.fetch_add(band_rows);
@@ -238,6 +240,7 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const 
                     bytes.resize(size_t(size));
                     MPI_Recv(bytes.data(), size, MPI_BYTE, from, result_data, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
                     unpack(bytes.data(), whole, first_row, BandLayout(options, rows));
+                    progress.advance(uint64_t(rows + 3) / 4);
                     slowest_band = std::max(slowest_band, seconds_since(since[size_t(from)]));
                     held[size_t(from)] = -1;
                 }
@@ -248,6 +251,7 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const 
         stats = render_bands(scene, tracer, local, take_band, [&](RenderResult& band) {
             // Rank 0's own bands go straight into the image (other rows than the dispatcher's).
             unpack(pack(band).data(), whole, band.first_row, BandLayout(options, band.rows));
+            progress.advance(uint64_t(band.rows + 3) / 4);
             mine.tiles += uint64_t(band.rows + 3) / 4 * uint64_t(tiles_x);
         });
         mine.busy_seconds = seconds_since(busy_start);
