@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Distributed rendering under mpirun on this host (README, "Distributed rendering"):
 #  1. -np 2 and -np 3 (oversubscribed) give the same bytes as one process, for the image, the
-#     hit and shadow buffers and the RTT map;
+#     hit and shadow buffers and the RTT map, and for every frame of a camera path;
 #  2. a rank killed mid-render, a rank stopped (hung) past --rank-timeout, and a scene file that
 #     is bad on one rank only each end the job with a non-zero status, a line naming the rank,
 #     and no output file.
@@ -29,6 +29,17 @@ for np in 2 3; do
   for ext in png rtth rtts; do cmp one.$ext np$np.$ext; done
   cmp one_map.png np${np}_map.png
   echo "mpi-tests: -np $np: image, hits, shadows and map identical to one process"
+done
+
+# A camera path: with at least as many frames as ranks, whole frames go to the ranks; every
+# frame's outputs must equal one process's.
+for i in 0 1 2 3 4; do echo "$((5 - i)).4,1.$((6 + i)),4.7,2.2,1.05,1.3,0,1,0,60"; done > path.txt
+frame_args=(render --scene room --camera-path path.txt --size 96x64 --aa 2 --threads 1 -q)
+"$rtt" "${frame_args[@]}" -o one_%02d.png --hits one_%02d.rtth
+for np in 2 3; do
+  "${mpi[@]}" -np $np "$rtt" "${frame_args[@]}" -o np${np}_%02d.png --hits np${np}_%02d.rtth
+  for f in 00 01 02 03 04; do cmp one_$f.png np${np}_$f.png; cmp one_$f.rtth np${np}_$f.rtth; done
+  echo "mpi-tests: -np $np: 5 frames of a camera path, distributed whole, identical to one process"
 done
 
 # The pid of rank 1 of a job whose command line contains $1.

@@ -262,6 +262,35 @@ RenderJobResult run_render_job(const RenderJob& job) {
     out.kd_stats = tree.stats;
     const std::unique_ptr<Tracer> tracer = make_tracer(tracer_kind, scene, tree);
     opt.progress = opt.progress && writer;
+    if (mpi_distributed() && frames >= size_t(mpi_size())) {
+        // Enough frames for every rank: whole frames, no bands (docs/distributed.md).
+        const RenderOptions frame_opt = [&] {
+            RenderOptions o = opt;
+            o.progress = false;  // one line per finished frame instead
+            return o;
+        }();
+        std::vector<RankStats> ranks;
+        render_frames_distributed(
+            frames, frame_opt,
+            [&](size_t frame) {
+                RenderOptions o = frame_opt;
+                o.camera = camera_of(frame);
+                if (lit_from_eye) scene.lights[0] = make_point_light(o.camera.position, bounds, 1);
+                return render(scene, *tracer, o);
+            },
+            [&](size_t frame, RenderResult& r) {
+                out.result = std::move(r);
+                OutputSet outputs;
+                frame_outputs(frame, outputs);
+                write_outputs(outputs, job, frame, frames, scene, out);
+                if (job.stats) print_stats(stdout, out);
+                if (!job.quiet) std::fprintf(stderr, "rtt: frame %zu of %zu done\n", frame + 1, frames);
+            },
+            &ranks, job.rank_timeout);
+        out.ranks = ranks;
+        if (job.stats && writer) print_rank_stats(stdout, out.ranks);
+        return out;
+    }
     for (size_t frame = 0; frame < frames; ++frame) {
         opt.camera = camera_of(frame);
         if (lit_from_eye) scene.lights[0] = make_point_light(opt.camera.position, bounds, 1);

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <mutex>
 #include <thread>
 
@@ -32,6 +33,15 @@ void mpi_abort(const std::string& message) {
 RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const RenderOptions& options,
                                 std::vector<RankStats>*, double) {
     return render(scene, tracer, options);
+}
+void render_frames_distributed(size_t frames, const RenderOptions&,
+                               const std::function<RenderResult(size_t)>& render_frame,
+                               const std::function<void(size_t, RenderResult&)>& frame_done,
+                               std::vector<RankStats>*, double) {
+    for (size_t f = 0; f < frames; ++f) {
+        RenderResult r = render_frame(f);
+        frame_done(f, r);
+    }
 }
 
 #else
@@ -129,6 +139,157 @@ void reduce_stats(RenderStats& s) {
     for (uint64_t& d : s.rays_by_depth) d = counts_sum[i++];
 }
 
+/// A frame's ray statistics as bytes (whole frames travel with their own statistics).
+std::vector<char> pack_stats(const RenderStats& s) {
+    std::vector<uint64_t> counts;
+    std::vector<double> values;
+    for (const KindStats* k : {&s.primary, &s.shadow, &s.secondary}) {
+        const TraceStats& t = k->trace;
+        counts.insert(counts.end(), {t.tiles, t.rtt_tiles, t.rays, t.traced, t.answered, t.relevant_sum});
+        values.push_back(k->seconds);
+    }
+    counts.insert(counts.end(), s.rays_by_depth.begin(), s.rays_by_depth.end());
+    counts.push_back(uint64_t(s.threads));
+    values.push_back(s.wall_seconds);
+    std::vector<char> bytes;
+    append(bytes, counts);
+    append(bytes, values);
+    return bytes;
+}
+
+/// The inverse of pack_stats; `s.rays_by_depth` must already have its size.
+void unpack_stats(const char* p, RenderStats& s) {
+    std::vector<uint64_t> counts(18 + s.rays_by_depth.size() + 1);
+    std::vector<double> values(4);
+    take(p, counts, 0, counts.size());
+    take(p, values, 0, values.size());
+    size_t i = 0;
+    KindStats* kinds[3] = {&s.primary, &s.shadow, &s.secondary};
+    for (int k = 0; k < 3; ++k) {
+        TraceStats& t = kinds[k]->trace;
+        for (uint64_t* field : {&t.tiles, &t.rtt_tiles, &t.rays, &t.traced, &t.answered, &t.relevant_sum})
+            *field = counts[i++];
+        kinds[k]->seconds = values[size_t(k)];
+    }
+    for (uint64_t& d : s.rays_by_depth) d = counts[i++];
+    s.threads = int(counts[i]);
+    s.wall_seconds = values[3];
+}
+
+/// Rank 0's watch over the other ranks (docs/distributed.md, "Faults"): a rank that holds work,
+/// or leaves rank 0 waiting once rank 0 has nothing left, for longer than max(timeout, 10x the
+/// slowest piece of work so far) ends the job, named.
+class Watchdog {
+public:
+    explicit Watchdog(double timeout)
+        : timeout_(timeout), held_(size_t(world_size)), since_(size_t(world_size), Clock::now()),
+          done_(size_t(world_size), false) {}
+
+    /// Rank r got work described by `what` ("pixel rows 384..", "frame 3"); empty = no more.
+    void handed(int r, std::string what) {
+        held_[size_t(r)] = std::move(what);
+        done_[size_t(r)] = held_[size_t(r)].empty();
+        since_[size_t(r)] = Clock::now();
+    }
+    /// Rank r returned its work.
+    void returned(int r) {
+        slowest_ = std::max(slowest_, seconds_since(since_[size_t(r)]));
+        held_[size_t(r)].clear();
+        since_[size_t(r)] = Clock::now();
+    }
+    /// Checks every rank; `rank0_idle`: rank 0 has rendered all it will.
+    void check(bool rank0_idle) {
+        const double limit = std::max(timeout_, 10 * slowest_);
+        if (rank0_idle && idle_since_ == Clock::time_point{}) idle_since_ = Clock::now();
+        for (int r = 1; r < world_size; ++r) {
+            if (done_[size_t(r)]) continue;
+            const std::string who = "rank " + std::to_string(r);
+            if (!held_[size_t(r)].empty() && seconds_since(since_[size_t(r)]) > limit)
+                mpi_abort(who + " has not returned " + held_[size_t(r)] + " after " +
+                          std::to_string(int(seconds_since(since_[size_t(r)]))) +
+                          " s (hung or far slower than the others; --rank-timeout)");
+            if (held_[size_t(r)].empty() && idle_since_ != Clock::time_point{} &&
+                seconds_since(std::max(since_[size_t(r)], idle_since_)) > limit)
+                mpi_abort(who + " has not asked for work for " + std::to_string(int(limit)) +
+                          " s while rank 0 waits to finish (hung while loading or building?; "
+                          "--rank-timeout)");
+        }
+    }
+
+private:
+    double timeout_;
+    double slowest_ = 0;
+    std::vector<std::string> held_;
+    std::vector<Clock::time_point> since_;
+    std::vector<bool> done_;
+    Clock::time_point idle_since_{};
+};
+
+/// Rank 0's dispatcher loop (the only thread of rank 0 that calls MPI while it renders): hands
+/// out work on request with give(rank, item, count) -> false when none is left, passes results
+/// to receive(rank, header, bytes), until every other rank was told there is no more. Polls
+/// and sleeps rather than blocks: Open MPI's blocking receive spins, and a spinning dispatcher
+/// would take a core from rank 0's render threads.
+void dispatch(Watchdog& watchdog, const std::atomic<bool>& rank0_idle,
+              const std::function<bool(int rank, int (&item)[2])>& give,
+              const std::function<void(int rank, const int (&header)[2], std::vector<char>& bytes)>& receive) {
+    int finished = 0;
+    std::vector<char> bytes;
+    while (finished < world_size - 1) {
+        int waiting = 0;
+        MPI_Status status;
+        MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &waiting, &status);
+        if (!waiting) {
+            std::this_thread::sleep_for(std::chrono::microseconds(200));
+            watchdog.check(rank0_idle);
+            continue;
+        }
+        int header[2];
+        MPI_Recv(header, 2, MPI_INT, status.MPI_SOURCE, status.MPI_TAG, MPI_COMM_WORLD, &status);
+        const int from = status.MPI_SOURCE;
+        if (status.MPI_TAG == request) {
+            int item[2] = {-1, 0};
+            if (!give(from, item)) item[0] = -1, ++finished;
+            MPI_Send(item, 2, MPI_INT, from, band, MPI_COMM_WORLD);
+        } else if (status.MPI_TAG == result_header) {
+            int size = 0;
+            MPI_Status data_status;
+            MPI_Probe(from, result_data, MPI_COMM_WORLD, &data_status);
+            MPI_Get_count(&data_status, MPI_BYTE, &size);
+            bytes.resize(size_t(size));
+            MPI_Recv(bytes.data(), size, MPI_BYTE, from, result_data, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+            watchdog.returned(from);
+            receive(from, header, bytes);
+        }
+    }
+}
+
+/// A worker's side: asks rank 0 for an item; false when there is none left.
+bool ask(int (&item)[2]) {
+    int h[2] = {0, 0};
+    MPI_Send(h, 2, MPI_INT, 0, request, MPI_COMM_WORLD);
+    MPI_Recv(item, 2, MPI_INT, 0, band, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    return item[0] >= 0;
+}
+
+/// A worker's side: sends a result with its header.
+void send_result(const int (&header)[2], const std::vector<char>& bytes) {
+    MPI_Send(header, 2, MPI_INT, 0, result_header, MPI_COMM_WORLD);
+    MPI_Send(bytes.data(), int(bytes.size()), MPI_BYTE, 0, result_data, MPI_COMM_WORLD);
+}
+
+/// Gathers every rank's RankStats on rank 0.
+void gather_rank_stats(const RankStats& mine, std::vector<RankStats>* ranks) {
+    std::vector<double> rank_values(size_t(world_size) * 3);
+    const double values[3] = {double(mine.tiles), mine.busy_seconds, mine.idle_seconds};
+    MPI_Gather(values, 3, MPI_DOUBLE, rank_values.data(), 3, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    if (world_rank != 0 || !ranks) return;
+    ranks->clear();
+    for (int r = 0; r < world_size; ++r)
+        ranks->push_back({r, uint64_t(rank_values[size_t(r) * 3]), rank_values[size_t(r) * 3 + 1],
+                          rank_values[size_t(r) * 3 + 2]});
+}
+
 }  // namespace
 
 void mpi_start(int& argc, char**& argv) {
@@ -183,69 +344,20 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const 
             count = std::min(band_rows, tiles_y - first);
             return true;
         };
-        // The dispatcher: the only thread of rank 0 that calls MPI while the render runs. It
-        // also watches the other ranks: one that holds a band, or leaves rank 0 waiting at the
-        // end, for longer than the timeout stops the job (docs/distributed.md, "Faults").
+        Watchdog watchdog(timeout_seconds);
         std::atomic<bool> own_done{false};
         std::thread dispatcher([&] {
-            int finished = 0;
-            std::vector<char> bytes;
-            std::vector<int> held(size_t(world_size), -1);  // first row of a rank's band, -1 none
-            std::vector<Clock::time_point> since(size_t(world_size), start);
-            std::vector<bool> done(size_t(world_size), false);
-            double slowest_band = 0;
-            Clock::time_point own_done_at{};
-            while (finished < world_size - 1) {
-                // Poll and sleep rather than block: Open MPI's blocking receive spins, and the
-                // spinning dispatcher would take a core from rank 0's render threads.
-                int waiting = 0;
-                MPI_Status status;
-                MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &waiting, &status);
-                if (!waiting) {
-                    std::this_thread::sleep_for(std::chrono::microseconds(200));
-                    // A band may take up to 10x the slowest one so far, and never less than the
-                    // timeout; a rank with no band is waited for once rank 0 has nothing left.
-                    const double limit = std::max(timeout_seconds, 10 * slowest_band);
-                    if (own_done && own_done_at == Clock::time_point{}) own_done_at = Clock::now();
-                    for (int r = 1; r < world_size; ++r) {
-                        if (done[size_t(r)]) continue;
-                        if (held[size_t(r)] >= 0 && seconds_since(since[size_t(r)]) > limit)
-                            mpi_abort("rank " + std::to_string(r) + " has not returned pixel rows " +
-                                      std::to_string(4 * held[size_t(r)]) + ".. after " +
-                                      std::to_string(int(seconds_since(since[size_t(r)]))) +
-                                      " s (hung or far slower than the others; --rank-timeout)");
-                        if (held[size_t(r)] < 0 && own_done_at != Clock::time_point{} &&
-                            seconds_since(std::max(since[size_t(r)], own_done_at)) > limit)
-                            mpi_abort("rank " + std::to_string(r) + " has not asked for work for " +
-                                      std::to_string(int(limit)) +
-                                      " s while rank 0 waits to finish (hung while loading or "
-                                      "building?; --rank-timeout)");
-                    }
-                    continue;
-                }
-                int header[2];
-                MPI_Recv(header, 2, MPI_INT, status.MPI_SOURCE, status.MPI_TAG, MPI_COMM_WORLD, &status);
-                const int from = status.MPI_SOURCE;
-                if (status.MPI_TAG == request) {
-                    int b[2] = {-1, 0};
-                    if (!take_band(b[0], b[1])) b[0] = -1, ++finished, done[size_t(from)] = true;
-                    MPI_Send(b, 2, MPI_INT, from, band, MPI_COMM_WORLD);
-                    held[size_t(from)] = b[0];
-                } else if (status.MPI_TAG == result_header) {
-                    const int first_row = header[0], rows = header[1];
-                    int size = 0;
-                    MPI_Status data_status;
-                    MPI_Probe(from, result_data, MPI_COMM_WORLD, &data_status);
-                    MPI_Get_count(&data_status, MPI_BYTE, &size);
-                    bytes.resize(size_t(size));
-                    MPI_Recv(bytes.data(), size, MPI_BYTE, from, result_data, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-                    unpack(bytes.data(), whole, first_row, BandLayout(options, rows));
-                    progress.advance(uint64_t(rows + 3) / 4);
-                    slowest_band = std::max(slowest_band, seconds_since(since[size_t(from)]));
-                    held[size_t(from)] = -1;
-                }
-                since[size_t(from)] = Clock::now();
-            }
+            dispatch(
+                watchdog, own_done,
+                [&](int r, int (&item)[2]) {
+                    const bool more = take_band(item[0], item[1]);
+                    watchdog.handed(r, more ? "pixel rows " + std::to_string(4 * item[0]) + ".." : "");
+                    return more;
+                },
+                [&](int, const int (&header)[2], std::vector<char>& bytes) {
+                    unpack(bytes.data(), whole, header[0], BandLayout(options, header[1]));
+                    progress.advance(uint64_t(header[1] + 3) / 4);
+                });
         });
         auto busy_start = Clock::now();
         stats = render_bands(scene, tracer, local, take_band, [&](RenderResult& band) {
@@ -259,43 +371,92 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const 
         dispatcher.join();
     } else {
         double busy = 0;
-        const auto ask = [&](int& first, int& count) {
-            int h[2] = {0, 0}, b[2];
-            MPI_Send(h, 2, MPI_INT, 0, request, MPI_COMM_WORLD);
-            MPI_Recv(b, 2, MPI_INT, 0, band, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-            first = b[0], count = b[1];
-            return first >= 0;
-        };
         auto band_start = Clock::now();
         stats = render_bands(scene, tracer, local, [&](int& first, int& count) {
-            const bool more = ask(first, count);
+            int item[2];
+            const bool more = ask(item);
+            first = item[0], count = item[1];
             band_start = Clock::now();
             return more;
         }, [&](RenderResult& band) {
             busy += seconds_since(band_start);
             mine.tiles += uint64_t((band.rows + 3) / 4) * uint64_t(tiles_x);
-            const std::vector<char> bytes = pack(band);
-            int h[2] = {band.first_row, band.rows};
-            MPI_Send(h, 2, MPI_INT, 0, result_header, MPI_COMM_WORLD);
-            MPI_Send(bytes.data(), int(bytes.size()), MPI_BYTE, 0, result_data, MPI_COMM_WORLD);
+            send_result({band.first_row, band.rows}, pack(band));
         });
         mine.busy_seconds = busy;
     }
     mine.idle_seconds = std::max(0.0, seconds_since(start) - mine.busy_seconds);
     reduce_stats(stats);
-    std::vector<double> rank_values(size_t(world_size) * 3);
-    const double values[3] = {double(mine.tiles), mine.busy_seconds, mine.idle_seconds};
-    MPI_Gather(values, 3, MPI_DOUBLE, rank_values.data(), 3, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    gather_rank_stats(mine, ranks);
     if (world_rank != 0) return RenderResult{};
-    if (ranks) {
-        ranks->clear();
-        for (int r = 0; r < world_size; ++r)
-            ranks->push_back({r, uint64_t(rank_values[size_t(r) * 3]), rank_values[size_t(r) * 3 + 1],
-                              rank_values[size_t(r) * 3 + 2]});
-    }
     stats.wall_seconds = seconds_since(start);
     whole.stats = stats;
     return whole;
+}
+
+void render_frames_distributed(size_t frames, const RenderOptions& options,
+                               const std::function<RenderResult(size_t)>& render_frame,
+                               const std::function<void(size_t, RenderResult&)>& frame_done,
+                               std::vector<RankStats>* ranks, double timeout_seconds) {
+    const uint64_t tiles = uint64_t((options.width + 3) / 4) * uint64_t((options.height + 3) / 4);
+    RankStats mine{world_rank, 0, 0, 0};
+    const auto start = Clock::now();
+    if (world_rank == 0) {
+        std::atomic<size_t> next{0};
+        std::mutex done_mutex;  // frame_done runs on both of rank 0's threads, one at a time
+        const auto finish = [&](size_t frame, RenderResult& r) {
+            const std::lock_guard<std::mutex> lock(done_mutex);
+            try {
+                frame_done(frame, r);
+            } catch (const std::exception& e) {
+                mpi_abort(e.what());
+            }
+        };
+        Watchdog watchdog(timeout_seconds);
+        std::atomic<bool> own_done{false};
+        std::thread dispatcher([&] {
+            dispatch(
+                watchdog, own_done,
+                [&](int r, int (&item)[2]) {
+                    const size_t f = next.fetch_add(1);
+                    const bool more = f < frames;
+                    item[0] = more ? int(f) : -1;
+                    watchdog.handed(r, more ? "frame " + std::to_string(f) : "");
+                    return more;
+                },
+                [&](int, const int (&header)[2], std::vector<char>& bytes) {
+                    RenderResult r;
+                    allocate_whole(r, options);
+                    r.stats.rays_by_depth.assign(size_t(options.max_depth) + 1, 0);
+                    const size_t image_bytes = bytes.size() - pack_stats(r.stats).size();
+                    unpack(bytes.data(), r, 0, BandLayout(options, options.height));
+                    unpack_stats(bytes.data() + image_bytes, r.stats);
+                    finish(size_t(header[0]), r);
+                });
+        });
+        for (size_t f; (f = next.fetch_add(1)) < frames;) {
+            const auto frame_start = Clock::now();
+            RenderResult r = render_frame(f);
+            mine.busy_seconds += seconds_since(frame_start);
+            mine.tiles += tiles;
+            finish(f, r);
+        }
+        own_done = true;
+        dispatcher.join();
+    } else {
+        for (int item[2]; ask(item);) {
+            const auto frame_start = Clock::now();
+            const RenderResult r = render_frame(size_t(item[0]));
+            mine.busy_seconds += seconds_since(frame_start);
+            mine.tiles += tiles;
+            std::vector<char> bytes = pack(r);
+            const std::vector<char> stats = pack_stats(r.stats);
+            bytes.insert(bytes.end(), stats.begin(), stats.end());
+            send_result({item[0], 0}, bytes);
+        }
+    }
+    mine.idle_seconds = std::max(0.0, seconds_since(start) - mine.busy_seconds);
+    gather_rank_stats(mine, ranks);
 }
 
 #endif

@@ -1,12 +1,13 @@
 // Rendering across machines with MPI (README, "Distributed rendering"): started by mpirun with
 // several ranks, every rank loads the scene and builds its tree; rank 0 hands out bands of tile
-// rows on demand (a dispatcher thread answers requests while rank 0 renders bands too), the
+// rows (or, for camera paths, whole frames) on demand (a dispatcher thread answers requests while rank 0 renders bands too), the
 // other ranks render them with their own threads and send them back, and rank 0 assembles the
 // image and buffers, bit for bit what one process renders, and writes every output.
 // Without MPI in the build, or without mpirun, nothing here changes a run.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -49,5 +50,18 @@ inline constexpr double default_rank_timeout = 120;
 RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const RenderOptions& options,
                                 std::vector<RankStats>* ranks = nullptr,
                                 double timeout_seconds = default_rank_timeout);
+
+/// A sequence of frames distributed as whole frames (a camera path with at least as many frames
+/// as ranks): rank 0 hands out frame numbers on demand, every rank (rank 0 too) renders a frame
+/// with render_frame(f) on all its threads, and rank 0 calls frame_done(f, result) for each
+/// frame in the order they finish (never two at once; an exception there ends the job). Every
+/// rank must call it with the same arguments; `options` gives the arrays a frame holds.
+/// `ranks` (on rank 0): frames' tiles, rendering and idle seconds per rank. Without MPI: the
+/// frames in order.
+void render_frames_distributed(size_t frames, const RenderOptions& options,
+                               const std::function<RenderResult(size_t)>& render_frame,
+                               const std::function<void(size_t, RenderResult&)>& frame_done,
+                               std::vector<RankStats>* ranks = nullptr,
+                               double timeout_seconds = default_rank_timeout);
 
 }  // namespace rtt::cli

@@ -37,6 +37,12 @@ std::string kd_build_phases(const KdStats& s) {
     return line;
 }
 
+void print_rank_stats(std::FILE* out, const std::vector<RankStats>& ranks) {
+    for (const RankStats& rank : ranks)
+        std::fprintf(out, "rank %d: %llu tiles, %.3f s rendering, %.3f s idle\n", rank.rank,
+                     (unsigned long long)rank.tiles, rank.busy_seconds, rank.idle_seconds);
+}
+
 void print_stats(std::FILE* out, const RenderJobResult& r) {
     const RenderResult& res = r.result;
     const RenderStats& s = res.stats;
@@ -60,9 +66,7 @@ void print_stats(std::FILE* out, const RenderJobResult& r) {
                      (unsigned long long)t.answered, t.avg_relevant(), row.stats->seconds,
                      row.stats->mrays_per_second());
     }
-    for (const RankStats& rank : r.ranks)
-        std::fprintf(out, "rank %d: %llu tiles, %.3f s rendering, %.3f s idle\n", rank.rank,
-                     (unsigned long long)rank.tiles, rank.busy_seconds, rank.idle_seconds);
+    print_rank_stats(out, r.ranks);
     std::fprintf(out,
                  "seconds = time inside the tracer summed over threads; Mrays/s = rays / seconds; "
                  "render wall time %.3f s\n",
