@@ -226,13 +226,15 @@ private:
 };
 
 /// Rank 0's dispatcher loop (the only thread of rank 0 that calls MPI while it renders): hands
-/// out work on request with give(rank, item, count) -> false when none is left, passes results
-/// to receive(rank, header, bytes), until every other rank was told there is no more. Polls
+/// out work on request with give(item), which describes it ("frame 3"; "" when none is left),
+/// passes results to receive(header, bytes), until every other rank was told there is no more. Polls
 /// and sleeps rather than blocks: Open MPI's blocking receive spins, and a spinning dispatcher
 /// would take a core from rank 0's render threads.
-void dispatch(Watchdog& watchdog, const std::atomic<bool>& rank0_idle,
-              const std::function<bool(int rank, int (&item)[2])>& give,
-              const std::function<void(int rank, const int (&header)[2], std::vector<char>& bytes)>& receive) {
+using Give = std::function<std::string(int (&item)[2])>;
+using Receive = std::function<void(const int (&header)[2], std::vector<char>& bytes)>;
+
+void dispatch(Watchdog& watchdog, const std::atomic<bool>& rank0_idle, const Give& give,
+              const Receive& receive) {
     int finished = 0;
     std::vector<char> bytes;
     while (finished < world_size - 1) {
@@ -249,7 +251,9 @@ void dispatch(Watchdog& watchdog, const std::atomic<bool>& rank0_idle,
         const int from = status.MPI_SOURCE;
         if (status.MPI_TAG == request) {
             int item[2] = {-1, 0};
-            if (!give(from, item)) item[0] = -1, ++finished;
+            std::string what = give(item);
+            if (what.empty()) item[0] = -1, ++finished;
+            watchdog.handed(from, std::move(what));
             MPI_Send(item, 2, MPI_INT, from, band, MPI_COMM_WORLD);
         } else if (status.MPI_TAG == result_header) {
             int size = 0;
@@ -259,9 +263,25 @@ void dispatch(Watchdog& watchdog, const std::atomic<bool>& rank0_idle,
             bytes.resize(size_t(size));
             MPI_Recv(bytes.data(), size, MPI_BYTE, from, result_data, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
             watchdog.returned(from);
-            receive(from, header, bytes);
+            receive(header, bytes);
         }
     }
+}
+
+/// Rank 0: does its own share with own_work() while a dispatcher thread serves the other ranks
+/// and watches them. An error in its own share ends the job (the dispatcher cannot be left).
+void serve_while(double timeout_seconds, const Give& give, const Receive& receive,
+                 const std::function<void()>& own_work) {
+    Watchdog watchdog(timeout_seconds);
+    std::atomic<bool> own_done{false};
+    std::thread dispatcher([&] { dispatch(watchdog, own_done, give, receive); });
+    try {
+        own_work();
+    } catch (const std::exception& e) {
+        mpi_abort(e.what());
+    }
+    own_done = true;
+    dispatcher.join();
 }
 
 /// A worker's side: asks rank 0 for an item; false when there is none left.
@@ -344,31 +364,26 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const 
             count = std::min(band_rows, tiles_y - first);
             return true;
         };
-        Watchdog watchdog(timeout_seconds);
-        std::atomic<bool> own_done{false};
-        std::thread dispatcher([&] {
-            dispatch(
-                watchdog, own_done,
-                [&](int r, int (&item)[2]) {
-                    const bool more = take_band(item[0], item[1]);
-                    watchdog.handed(r, more ? "pixel rows " + std::to_string(4 * item[0]) + ".." : "");
-                    return more;
-                },
-                [&](int, const int (&header)[2], std::vector<char>& bytes) {
-                    unpack(bytes.data(), whole, header[0], BandLayout(options, header[1]));
-                    progress.advance(uint64_t(header[1] + 3) / 4);
+        serve_while(
+            timeout_seconds,
+            [&](int (&item)[2]) {
+                return take_band(item[0], item[1]) ? "pixel rows " + std::to_string(4 * item[0]) + ".."
+                                                   : std::string();
+            },
+            [&](const int (&header)[2], std::vector<char>& bytes) {
+                unpack(bytes.data(), whole, header[0], BandLayout(options, header[1]));
+                progress.advance(uint64_t(header[1] + 3) / 4);
+            },
+            [&] {
+                const auto busy_start = Clock::now();
+                stats = render_bands(scene, tracer, local, take_band, [&](RenderResult& band) {
+                    // Rank 0's own bands go straight into the image (other rows than the dispatcher's).
+                    unpack(pack(band).data(), whole, band.first_row, BandLayout(options, band.rows));
+                    progress.advance(uint64_t(band.rows + 3) / 4);
+                    mine.tiles += uint64_t(band.rows + 3) / 4 * uint64_t(tiles_x);
                 });
-        });
-        auto busy_start = Clock::now();
-        stats = render_bands(scene, tracer, local, take_band, [&](RenderResult& band) {
-            // Rank 0's own bands go straight into the image (other rows than the dispatcher's).
-            unpack(pack(band).data(), whole, band.first_row, BandLayout(options, band.rows));
-            progress.advance(uint64_t(band.rows + 3) / 4);
-            mine.tiles += uint64_t(band.rows + 3) / 4 * uint64_t(tiles_x);
-        });
-        mine.busy_seconds = seconds_since(busy_start);
-        own_done = true;
-        dispatcher.join();
+                mine.busy_seconds = seconds_since(busy_start);
+            });
     } else {
         double busy = 0;
         auto band_start = Clock::now();
@@ -412,37 +427,31 @@ void render_frames_distributed(size_t frames, const RenderOptions& options,
                 mpi_abort(e.what());
             }
         };
-        Watchdog watchdog(timeout_seconds);
-        std::atomic<bool> own_done{false};
-        std::thread dispatcher([&] {
-            dispatch(
-                watchdog, own_done,
-                [&](int r, int (&item)[2]) {
-                    const size_t f = next.fetch_add(1);
-                    const bool more = f < frames;
-                    item[0] = more ? int(f) : -1;
-                    watchdog.handed(r, more ? "frame " + std::to_string(f) : "");
-                    return more;
-                },
-                [&](int, const int (&header)[2], std::vector<char>& bytes) {
-                    RenderResult r;
-                    allocate_whole(r, options);
-                    r.stats.rays_by_depth.assign(size_t(options.max_depth) + 1, 0);
-                    const size_t image_bytes = bytes.size() - pack_stats(r.stats).size();
-                    unpack(bytes.data(), r, 0, BandLayout(options, options.height));
-                    unpack_stats(bytes.data() + image_bytes, r.stats);
-                    finish(size_t(header[0]), r);
-                });
-        });
-        for (size_t f; (f = next.fetch_add(1)) < frames;) {
-            const auto frame_start = Clock::now();
-            RenderResult r = render_frame(f);
-            mine.busy_seconds += seconds_since(frame_start);
-            mine.tiles += tiles;
-            finish(f, r);
-        }
-        own_done = true;
-        dispatcher.join();
+        serve_while(
+            timeout_seconds,
+            [&](int (&item)[2]) {
+                const size_t f = next.fetch_add(1);
+                item[0] = f < frames ? int(f) : -1;
+                return f < frames ? "frame " + std::to_string(f) : std::string();
+            },
+            [&](const int (&header)[2], std::vector<char>& bytes) {
+                RenderResult r;
+                allocate_whole(r, options);
+                r.stats.rays_by_depth.assign(size_t(options.max_depth) + 1, 0);
+                const size_t image_bytes = bytes.size() - pack_stats(r.stats).size();
+                unpack(bytes.data(), r, 0, BandLayout(options, options.height));
+                unpack_stats(bytes.data() + image_bytes, r.stats);
+                finish(size_t(header[0]), r);
+            },
+            [&] {
+                for (size_t f; (f = next.fetch_add(1)) < frames;) {
+                    const auto frame_start = Clock::now();
+                    RenderResult r = render_frame(f);
+                    mine.busy_seconds += seconds_since(frame_start);
+                    mine.tiles += tiles;
+                    finish(f, r);
+                }
+            });
     } else {
         for (int item[2]; ask(item);) {
             const auto frame_start = Clock::now();
