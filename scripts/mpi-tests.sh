@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Distributed rendering under mpirun on this host (README, "Distributed rendering"):
 #  1. -np 2 and -np 3 (oversubscribed) give the same bytes as one process, for the image, the
-#     hit and shadow buffers and the RTT map, and for every frame of a camera path;
+#     hit and shadow buffers and the RTT map, and for every frame of a camera path; `rtt bench`
+#     spread over the ranks writes a report of the same form;
 #  2. a rank killed mid-render, a rank stopped (hung) past --rank-timeout, and a scene file that
 #     is bad on one rank only each end the job with a non-zero status, a line naming the rank,
 #     and no output file.
@@ -41,6 +42,18 @@ for np in 2 3; do
   for f in 00 01 02 03 04; do cmp one_$f.png np${np}_$f.png; cmp one_$f.rtth np${np}_$f.rtth; done
   echo "mpi-tests: -np $np: 5 frames of a camera path, distributed whole, identical to one process"
 done
+
+# rtt bench under mpirun: whole experiments on the ranks, one report of the same form (the same
+# experiments in the same order, with as many measurements and tables) as one process writes.
+"$rtt" bench all --quick --scenes room --out-dir one-bench --json one.json > one-bench.log
+"${mpi[@]}" -np 2 "$rtt" bench all --quick --scenes room --out-dir np-bench --json np.json > np-bench.log
+form='import json, sys
+d = json.load(open(sys.argv[1]))
+print([(e["id"], len(e["measurements"]), len(e["tables"]), len(e["files"])) for e in d["experiments"]])'
+[ "$(/usr/bin/python3 -c "$form" one.json)" = "$(/usr/bin/python3 -c "$form" np.json)" ] ||
+  { echo "mpi-tests: the distributed bench report differs in form" >&2; exit 1; }
+grep -q "run on rank 1" np-bench.log || { echo "mpi-tests: rank 1 ran no experiment" >&2; exit 1; }
+echo "mpi-tests: -np 2 rtt bench all --quick: $(grep -c 'run on rank 1' np-bench.log) experiments on rank 1, report of the same form"
 
 # The pid of rank 1 of a job whose command line contains $1.
 rank1_of() {

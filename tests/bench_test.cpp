@@ -194,6 +194,27 @@ TEST(BenchReport, JsonHoldsEveryFigureAndParses) {
     EXPECT_NE(md.find(doc.machine.cpu_model), std::string::npos);
 }
 
+TEST(BenchReport, ExperimentsComeBackFromTheirJsonUnchanged) {
+    // A distributed `rtt bench` sends each experiment's result to rank 0 as this JSON.
+    const Workload workload(scene(), 16, 12, 2, 1000);
+    ExperimentResult e;
+    e.id = "tiny";
+    e.title = "a tiny experiment";
+    MeasureOptions options;
+    options.repetitions = 2;
+    e.measurements.push_back(measure(workload, make_tracers(scene(), {"packet", "rtt"}), options));
+    e.tables.push_back(TextTable{"t", {"a", "b"}, {{"1", "2"}, {"3", "4"}}, {"note"}});
+    e.files = {"plot.svg"};
+    e.findings = {"fast"};
+    e.extra = {{"build_seconds", 0.25}};
+    const nlohmann::json j = experiment_json(e);
+    const ExperimentResult back = experiment_from_json(nlohmann::json::parse(j.dump()));
+    EXPECT_EQ(experiment_json(back), j);
+    EXPECT_EQ(back.measurements.at(0).tracers.at(1).primary.stats.answered,
+              e.measurements.at(0).tracers.at(1).primary.stats.answered);
+    EXPECT_THROW(experiment_from_json(nlohmann::json::parse("{\"id\": \"x\"}")), nlohmann::json::exception);
+}
+
 TEST(BenchReport, CellsAndTables) {
     EXPECT_EQ(format_count(1234567), "1,234,567");
     EXPECT_EQ(format_count(12), "12");

@@ -1,13 +1,18 @@
 // `rtt bench`: the paper's experiments (section 4) and Embree, on the same rays, one command each.
 #include <chrono>
 #include <filesystem>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "experiments/experiments.h"
 #include "experiments/results_doc.h"
 #include "experiments/workload.h"
 #include "commands.h"
+#include "mpi_render.h"
 #include "rtt/error.h"
 #include "rtt/io.h"
 
@@ -40,6 +45,84 @@ std::vector<std::string> split_list(const std::string& text) {
 
 using Experiment = bench::ExperimentResult (*)(const bench::BenchConfig&, bench::SceneCache&);
 
+/// The experiments one after the other in this process.
+void run_here(const bench::BenchConfig& config, bench::SceneCache& scenes,
+              const std::vector<Experiment>& experiments, bench::ResultsDocument& doc,
+              const std::function<void()>& save, std::chrono::steady_clock::time_point start) {
+    for (size_t i = 0; i < experiments.size(); ++i) {
+        if (experiments.size() > 1) {
+            std::printf("\nrtt bench: experiment %zu of %zu, %.0f s into the run\n", i + 1,
+                        experiments.size(),
+                        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+            std::fflush(stdout);
+        }
+        doc.experiments.push_back(experiments[i](config, scenes));
+        save();
+    }
+}
+
+/// Under mpirun: each experiment runs whole on one rank (timed there), and rank 0 gathers the
+/// results in the experiments' order, printing each one's log as it arrives. Plots and images
+/// are written by the rank that ran the experiment (--out-dir: a shared folder on a cluster).
+void run_distributed(const bench::BenchConfig& config, bench::SceneCache& scenes,
+                     const std::vector<Experiment>& experiments, bench::ResultsDocument& doc,
+                     const std::function<void()>& save) {
+    std::vector<std::optional<bench::ExperimentResult>> results(experiments.size());
+    std::vector<RankStats> ranks;
+    // An experiment takes minutes: a rank is taken for hung only after an hour (or 10x the
+    // slowest experiment so far).
+    constexpr double bench_rank_timeout = 3600;
+    distribute_items(
+        experiments.size(),
+        [&](size_t i) {
+            // The experiment's tables go with its result, so that rank 0 prints them whole.
+            char* text = nullptr;
+            size_t length = 0;
+            std::FILE* log = open_memstream(&text, &length);
+            if (!log) throw Error("cannot buffer the experiment's log");
+            bench::BenchConfig here = config;
+            here.log = log;
+            nlohmann::json j;
+            try {
+                j["result"] = bench::experiment_json(experiments[i](here, scenes));
+            } catch (...) {
+                std::fclose(log);
+                std::free(text);
+                throw;
+            }
+            std::fclose(log);
+            j["log"] = std::string(text, length);
+            std::free(text);
+            j["rank"] = mpi_rank();
+            const std::string bytes = j.dump();
+            return std::vector<char>(bytes.begin(), bytes.end());
+        },
+        [&](size_t i, std::vector<char>& bytes) {
+            const nlohmann::json j = nlohmann::json::parse(bytes.begin(), bytes.end());
+            std::printf("\nrtt bench: experiment %zu of %zu, run on rank %d:\n%s", i + 1,
+                        experiments.size(), j.at("rank").get<int>(),
+                        j.at("log").get<std::string>().c_str());
+            std::fflush(stdout);
+            results[i] = bench::experiment_from_json(j.at("result"));
+            // The document keeps the experiments' order: those finished so far, up to the
+            // first one still running.
+            doc.experiments.clear();
+            for (const auto& r : results) {
+                if (!r) break;
+                doc.experiments.push_back(*r);
+            }
+            save();
+        },
+        &ranks, bench_rank_timeout);
+    if (mpi_rank() != 0) return;
+    doc.experiments.clear();
+    for (const auto& r : results) doc.experiments.push_back(*r);
+    save();
+    for (const RankStats& r : ranks)
+        std::printf("rank %d: %.1f s running experiments, %.1f s idle\n", r.rank, r.busy_seconds,
+                    r.idle_seconds);
+}
+
 void run(const BenchArgs& args, const std::vector<Experiment>& experiments) {
     if (args.threads < 1) throw Error("--threads must be at least 1");
     if (args.repetitions < 0) throw Error("--reps must be at least 1");
@@ -63,7 +146,8 @@ void run(const BenchArgs& args, const std::vector<Experiment>& experiments) {
     doc.threads = config.threads;
     doc.repetitions = config.repetitions;
     doc.clock = config.clock;
-    std::printf(
+    if (mpi_rank() == 0)
+        std::printf(
         "rtt bench: %s mode, %d repetition(s), %d thread(s); %s, %s, commit %s, load %.2f\n",
         bench::mode_name(config.mode), config.repetitions, config.threads,
         doc.machine.cpu_model.c_str(), doc.machine.isa.c_str(), doc.machine.git_commit.c_str(),
@@ -87,17 +171,13 @@ void run(const BenchArgs& args, const std::vector<Experiment>& experiments) {
     };
     bench::SceneCache scenes;
     config.start = start;
-    for (size_t i = 0; i < experiments.size(); ++i) {
-        if (experiments.size() > 1) {
-            std::printf("\nrtt bench: experiment %zu of %zu, %.0f s into the run\n", i + 1,
-                        experiments.size(),
-                        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-            std::fflush(stdout);
-        }
-        doc.experiments.push_back(experiments[i](config, scenes));
-        save();
+    if (mpi_distributed()) {
+        run_distributed(config, scenes, experiments, doc, save);
+    } else {
+        run_here(config, scenes, experiments, doc, save, start);
     }
 
+    if (mpi_rank() != 0) return;
     std::printf("\nWhere we stand:\n");
     for (const bench::ExperimentResult& e : doc.experiments)
         for (const std::string& f : e.findings) std::printf("  %s: %s\n", e.id.c_str(), f.c_str());

@@ -1,5 +1,7 @@
 #include "mpi_render.h"
 
+#include "result_bytes.h"
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -34,13 +36,12 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const 
                                 std::vector<RankStats>*, double) {
     return render(scene, tracer, options);
 }
-void render_frames_distributed(size_t frames, const RenderOptions&,
-                               const std::function<RenderResult(size_t)>& render_frame,
-                               const std::function<void(size_t, RenderResult&)>& frame_done,
-                               std::vector<RankStats>*, double) {
-    for (size_t f = 0; f < frames; ++f) {
-        RenderResult r = render_frame(f);
-        frame_done(f, r);
+void distribute_items(size_t count, const std::function<std::vector<char>(size_t)>& work,
+                      const std::function<void(size_t, std::vector<char>&)>& done,
+                      std::vector<RankStats>*, double, uint64_t) {
+    for (size_t i = 0; i < count; ++i) {
+        std::vector<char> bytes = work(i);
+        done(i, bytes);
     }
 }
 
@@ -55,62 +56,6 @@ enum Tag : int { request = 1, band = 2, result_header = 3, result_data = 4 };
 
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-/// The per-pixel and per-sample arrays of a band, in one fixed order: what travels between
-/// ranks. Sizes follow from the options and the band's rows, so only the bytes are sent.
-struct BandLayout {
-    size_t pixels, samples;
-    BandLayout(const RenderOptions& o, int rows)
-        : pixels(size_t(o.width) * size_t(rows)), samples(pixels * size_t(o.aa) * size_t(o.aa)) {}
-};
-
-template <typename T>
-void append(std::vector<char>& bytes, const std::vector<T>& v) {
-    const char* p = reinterpret_cast<const char*>(v.data());
-    bytes.insert(bytes.end(), p, p + v.size() * sizeof(T));
-}
-
-template <typename T>
-void take(const char*& p, std::vector<T>& into, size_t offset, size_t count) {
-    if (into.empty()) return;  // this array is not asked for
-    std::memcpy(into.data() + offset, p, count * sizeof(T));
-    p += count * sizeof(T);
-}
-
-std::vector<char> pack(const RenderResult& b) {
-    std::vector<char> bytes;
-    append(bytes, b.pixels);
-    append(bytes, b.hits);
-    append(bytes, b.shadows);
-    append(bytes, b.primary_map);
-    append(bytes, b.shadow_map);
-    append(bytes, b.depth);
-    append(bytes, b.first_triangle);
-    return bytes;
-}
-
-/// Copies a packed band into the whole image's arrays (allocated as render() would).
-void unpack(const char* p, RenderResult& whole, int first_row, const BandLayout& band) {
-    const size_t px = size_t(first_row) * size_t(whole.width), spp = size_t(whole.aa) * size_t(whole.aa);
-    take(p, whole.pixels, px, band.pixels);
-    take(p, whole.hits, px * spp, band.samples);
-    take(p, whole.shadows, px * spp, band.samples);
-    take(p, whole.primary_map, px, band.pixels);
-    take(p, whole.shadow_map, px, band.pixels);
-    take(p, whole.depth, px, band.pixels);
-    take(p, whole.first_triangle, px, band.pixels);
-}
-
-void allocate_whole(RenderResult& out, const RenderOptions& o) {
-    const size_t pixels = size_t(o.width) * size_t(o.height), samples = pixels * size_t(o.aa) * size_t(o.aa);
-    out.width = o.width, out.height = o.height, out.aa = o.aa, out.first_row = 0, out.rows = o.height;
-    out.pixels.resize(pixels);
-    if (o.hits_buffer) out.hits.resize(samples);
-    if (o.shadow_buffer) out.shadows.resize(samples);
-    if (o.primary_map) out.primary_map.resize(pixels);
-    if (o.shadow_map_light >= 0) out.shadow_map.resize(pixels);
-    if (o.pixel_hits) out.depth.resize(pixels), out.first_triangle.resize(pixels);
-}
 
 /// Sums the ray statistics of every rank on rank 0 (counts are sums over tiles, so they equal
 /// a one-process run's).
@@ -137,43 +82,6 @@ void reduce_stats(RenderStats& s) {
         kinds[k]->seconds = seconds_sum[size_t(k)];
     }
     for (uint64_t& d : s.rays_by_depth) d = counts_sum[i++];
-}
-
-/// A frame's ray statistics as bytes (whole frames travel with their own statistics).
-std::vector<char> pack_stats(const RenderStats& s) {
-    std::vector<uint64_t> counts;
-    std::vector<double> values;
-    for (const KindStats* k : {&s.primary, &s.shadow, &s.secondary}) {
-        const TraceStats& t = k->trace;
-        counts.insert(counts.end(), {t.tiles, t.rtt_tiles, t.rays, t.traced, t.answered, t.relevant_sum});
-        values.push_back(k->seconds);
-    }
-    counts.insert(counts.end(), s.rays_by_depth.begin(), s.rays_by_depth.end());
-    counts.push_back(uint64_t(s.threads));
-    values.push_back(s.wall_seconds);
-    std::vector<char> bytes;
-    append(bytes, counts);
-    append(bytes, values);
-    return bytes;
-}
-
-/// The inverse of pack_stats; `s.rays_by_depth` must already have its size.
-void unpack_stats(const char* p, RenderStats& s) {
-    std::vector<uint64_t> counts(18 + s.rays_by_depth.size() + 1);
-    std::vector<double> values(4);
-    take(p, counts, 0, counts.size());
-    take(p, values, 0, values.size());
-    size_t i = 0;
-    KindStats* kinds[3] = {&s.primary, &s.shadow, &s.secondary};
-    for (int k = 0; k < 3; ++k) {
-        TraceStats& t = kinds[k]->trace;
-        for (uint64_t* field : {&t.tiles, &t.rtt_tiles, &t.rays, &t.traced, &t.answered, &t.relevant_sum})
-            *field = counts[i++];
-        kinds[k]->seconds = values[size_t(k)];
-    }
-    for (uint64_t& d : s.rays_by_depth) d = counts[i++];
-    s.threads = int(counts[i]);
-    s.wall_seconds = values[3];
 }
 
 /// Rank 0's watch over the other ranks (docs/distributed.md, "Faults"): a rank that holds work,
@@ -409,20 +317,25 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const 
     return whole;
 }
 
-void render_frames_distributed(size_t frames, const RenderOptions& options,
-                               const std::function<RenderResult(size_t)>& render_frame,
-                               const std::function<void(size_t, RenderResult&)>& frame_done,
-                               std::vector<RankStats>* ranks, double timeout_seconds) {
-    const uint64_t tiles = uint64_t((options.width + 3) / 4) * uint64_t((options.height + 3) / 4);
+void distribute_items(size_t count, const std::function<std::vector<char>(size_t)>& work,
+                      const std::function<void(size_t, std::vector<char>&)>& done,
+                      std::vector<RankStats>* ranks, double timeout_seconds, uint64_t tiles_per_item) {
     RankStats mine{world_rank, 0, 0, 0};
     const auto start = Clock::now();
+    const auto run = [&](size_t item) {
+        const auto item_start = Clock::now();
+        std::vector<char> bytes = work(item);
+        mine.busy_seconds += seconds_since(item_start);
+        mine.tiles += tiles_per_item;
+        return bytes;
+    };
     if (world_rank == 0) {
         std::atomic<size_t> next{0};
-        std::mutex done_mutex;  // frame_done runs on both of rank 0's threads, one at a time
-        const auto finish = [&](size_t frame, RenderResult& r) {
+        std::mutex done_mutex;  // done() runs on both of rank 0's threads, one at a time
+        const auto finish = [&](size_t item, std::vector<char>& bytes) {
             const std::lock_guard<std::mutex> lock(done_mutex);
             try {
-                frame_done(frame, r);
+                done(item, bytes);
             } catch (const std::exception& e) {
                 mpi_abort(e.what());
             }
@@ -430,44 +343,55 @@ void render_frames_distributed(size_t frames, const RenderOptions& options,
         serve_while(
             timeout_seconds,
             [&](int (&item)[2]) {
-                const size_t f = next.fetch_add(1);
-                item[0] = f < frames ? int(f) : -1;
-                return f < frames ? "frame " + std::to_string(f) : std::string();
+                const size_t i = next.fetch_add(1);
+                item[0] = i < count ? int(i) : -1;
+                return i < count ? "item " + std::to_string(i) : std::string();
             },
-            [&](const int (&header)[2], std::vector<char>& bytes) {
-                RenderResult r;
-                allocate_whole(r, options);
-                r.stats.rays_by_depth.assign(size_t(options.max_depth) + 1, 0);
-                const size_t image_bytes = bytes.size() - pack_stats(r.stats).size();
-                unpack(bytes.data(), r, 0, BandLayout(options, options.height));
-                unpack_stats(bytes.data() + image_bytes, r.stats);
-                finish(size_t(header[0]), r);
-            },
+            [&](const int (&header)[2], std::vector<char>& bytes) { finish(size_t(header[0]), bytes); },
             [&] {
-                for (size_t f; (f = next.fetch_add(1)) < frames;) {
-                    const auto frame_start = Clock::now();
-                    RenderResult r = render_frame(f);
-                    mine.busy_seconds += seconds_since(frame_start);
-                    mine.tiles += tiles;
-                    finish(f, r);
+                for (size_t i; (i = next.fetch_add(1)) < count;) {
+                    std::vector<char> bytes = run(i);
+                    finish(i, bytes);
                 }
             });
     } else {
-        for (int item[2]; ask(item);) {
-            const auto frame_start = Clock::now();
-            const RenderResult r = render_frame(size_t(item[0]));
-            mine.busy_seconds += seconds_since(frame_start);
-            mine.tiles += tiles;
-            std::vector<char> bytes = pack(r);
-            const std::vector<char> stats = pack_stats(r.stats);
-            bytes.insert(bytes.end(), stats.begin(), stats.end());
-            send_result({item[0], 0}, bytes);
-        }
+        for (int item[2]; ask(item);) send_result({item[0], 0}, run(size_t(item[0])));
     }
     mine.idle_seconds = std::max(0.0, seconds_since(start) - mine.busy_seconds);
     gather_rank_stats(mine, ranks);
 }
 
 #endif
+
+void render_frames_distributed(size_t frames, const RenderOptions& options,
+                               const std::function<RenderResult(size_t)>& render_frame,
+                               const std::function<void(size_t, RenderResult&)>& frame_done,
+                               std::vector<RankStats>* ranks, double timeout_seconds) {
+    const uint64_t tiles = uint64_t((options.width + 3) / 4) * uint64_t((options.height + 3) / 4);
+    // A frame travels as its packed arrays followed by its packed ray statistics.
+    const auto stats_bytes = [&] {
+        RenderStats empty;
+        empty.rays_by_depth.assign(size_t(options.max_depth) + 1, 0);
+        return pack_stats(empty).size();
+    }();
+    distribute_items(
+        frames,
+        [&](size_t f) {
+            const RenderResult r = render_frame(f);
+            std::vector<char> bytes = pack(r);
+            const std::vector<char> stats = pack_stats(r.stats);
+            bytes.insert(bytes.end(), stats.begin(), stats.end());
+            return bytes;
+        },
+        [&](size_t f, std::vector<char>& bytes) {
+            RenderResult r;
+            allocate_whole(r, options);
+            r.stats.rays_by_depth.assign(size_t(options.max_depth) + 1, 0);
+            unpack(bytes.data(), r, 0, BandLayout(options, options.height));
+            unpack_stats(bytes.data() + bytes.size() - stats_bytes, r.stats);
+            frame_done(f, r);
+        },
+        ranks, timeout_seconds, tiles);
+}
 
 }  // namespace rtt::cli

@@ -51,6 +51,18 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const 
                                 std::vector<RankStats>* ranks = nullptr,
                                 double timeout_seconds = default_rank_timeout);
 
+/// Items [0, count) spread over the ranks on demand: rank 0 hands out item numbers (a
+/// dispatcher thread, as for bands), every rank (rank 0 too) runs work(i), which returns the
+/// item's result as bytes, and rank 0 gets done(i, bytes) for each item in the order they
+/// finish (never two at once; an exception there ends the job). Every rank must call it with
+/// the same count. A rank silent past the timeout (as render_distributed) ends the job.
+/// `ranks` (on rank 0): items x tiles_per_item, busy and idle seconds per rank. Without MPI:
+/// the items in order.
+void distribute_items(size_t count, const std::function<std::vector<char>(size_t)>& work,
+                      const std::function<void(size_t, std::vector<char>&)>& done,
+                      std::vector<RankStats>* ranks = nullptr,
+                      double timeout_seconds = default_rank_timeout, uint64_t tiles_per_item = 0);
+
 /// A sequence of frames distributed as whole frames (a camera path with at least as many frames
 /// as ranks): rank 0 hands out frame numbers on demand, every rank (rank 0 too) renders a frame
 /// with render_frame(f) on all its threads, and rank 0 calls frame_done(f, result) for each

@@ -23,6 +23,18 @@ nlohmann::json experiment_json(const ExperimentResult& result) {
             {"extra", result.extra}};
 }
 
+ExperimentResult experiment_from_json(const nlohmann::json& j) {
+    ExperimentResult r;
+    r.id = j.at("id").get<std::string>();
+    r.title = j.at("title").get<std::string>();
+    for (const nlohmann::json& m : j.at("measurements")) r.measurements.push_back(measurement_from_json(m));
+    for (const nlohmann::json& t : j.at("tables")) r.tables.push_back(table_from_json(t));
+    r.files = j.at("files").get<std::vector<std::string>>();
+    r.findings = j.at("findings").get<std::vector<std::string>>();
+    r.extra = j.at("extra");
+    return r;
+}
+
 const char* mode_name(BenchMode mode) {
     return mode == BenchMode::quick ? "quick" : mode == BenchMode::full ? "full" : "long";
 }

@@ -83,6 +83,8 @@ ExperimentResult run_embree(const BenchConfig& config, SceneCache& scenes);
 
 /// Every figure of a result (tables, measurements, files, findings, extra).
 nlohmann::json experiment_json(const ExperimentResult& result);
+/// The inverse of experiment_json.
+ExperimentResult experiment_from_json(const nlohmann::json& j);
 
 /// `rtt` without arguments: RTT against the 4-wide packets on `scene` at 640x480, K = 1 (the
 /// paper's Table 1), and at 320x240 with K = 4, one thread, 3 repetitions; prints times, rays

@@ -106,7 +106,52 @@ nlohmann::json kind_json(const KindResult& k) {
               {"avg_relevant", s.avg_relevant()}}}};
 }
 
+Clocks clocks_from_json(const nlohmann::json& j) {
+    return Clocks{j.at("wall_s").get<double>(), j.at("cpu_s").get<double>()};
+}
+
+KindResult kind_from_json(const nlohmann::json& j) {
+    KindResult k;
+    k.rays = j.at("rays").get<uint64_t>();
+    k.time = clocks_from_json(j.at("time"));
+    for (const nlohmann::json& c : j.at("repetitions")) k.reps.push_back(clocks_from_json(c));
+    k.differences = j.at("differences_from_baseline").get<uint64_t>();
+    const nlohmann::json& s = j.at("stats");
+    TraceStats& t = k.stats;
+    for (auto [field, name] : {std::pair{&t.tiles, "tiles"}, {&t.rtt_tiles, "rtt_tiles"},
+                               {&t.rays, "rays"}, {&t.traced, "traced"}, {&t.answered, "answered"},
+                               {&t.relevant_sum, "relevant_sum"}})
+        *field = s.at(name).get<uint64_t>();
+    return k;
+}
+
 }  // namespace
+
+Measurement measurement_from_json(const nlohmann::json& j) {
+    Measurement m;
+    m.scene = j.at("scene").get<std::string>();
+    m.width = j.at("width").get<int>();
+    m.height = j.at("height").get<int>();
+    m.aa = j.at("aa").get<int>();
+    m.threads = j.at("threads").get<int>();
+    m.repetitions = j.at("repetitions").get<int>();
+    m.baseline = j.at("baseline").get<std::string>();
+    m.primary_rays = j.at("primary_rays").get<uint64_t>();
+    m.shadow_rays = j.at("shadow_rays").get<uint64_t>();
+    m.shadow_tiles = j.at("shadow_tiles").get<size_t>();
+    m.seconds = j.at("seconds").get<double>();
+    for (const nlohmann::json& t : j.at("tracers"))
+        m.tracers.push_back({t.at("kind").get<std::string>(), t.at("exact").get<bool>(),
+                             kind_from_json(t.at("primary")), kind_from_json(t.at("shadow"))});
+    return m;
+}
+
+TextTable table_from_json(const nlohmann::json& j) {
+    return TextTable{j.at("title").get<std::string>(),
+                     j.at("header").get<std::vector<std::string>>(),
+                     j.at("rows").get<std::vector<std::vector<std::string>>>(),
+                     j.at("notes").get<std::vector<std::string>>()};
+}
 
 nlohmann::json measurement_json(const Measurement& m) {
     nlohmann::json tracers = nlohmann::json::array();

@@ -36,6 +36,10 @@ std::string format_fixed(double value, int decimals);  ///< "3.25"
 nlohmann::json measurement_json(const Measurement& m);
 nlohmann::json machine_json(const MachineInfo& m);
 nlohmann::json table_json(const TextTable& table);
+/// The inverses of measurement_json and table_json (a distributed `rtt bench` sends results
+/// between ranks as this JSON). Throw nlohmann::json's exceptions on a malformed document.
+Measurement measurement_from_json(const nlohmann::json& j);
+TextTable table_from_json(const nlohmann::json& j);
 
 /// Writes `j` (indented) to `path`, whole or not at all. Throws rtt::Error on I/O failure.
 void write_json_file(const std::string& path, const nlohmann::json& j);

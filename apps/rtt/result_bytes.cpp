@@ -1,0 +1,92 @@
+#include "result_bytes.h"
+
+#include <cstring>
+
+namespace rtt::cli {
+namespace {
+
+template <typename T>
+void append(std::vector<char>& bytes, const std::vector<T>& v) {
+    const char* p = reinterpret_cast<const char*>(v.data());
+    bytes.insert(bytes.end(), p, p + v.size() * sizeof(T));
+}
+
+template <typename T>
+void take(const char*& p, std::vector<T>& into, size_t offset, size_t count) {
+    if (into.empty()) return;  // this array is not asked for
+    std::memcpy(into.data() + offset, p, count * sizeof(T));
+    p += count * sizeof(T);
+}
+
+}  // namespace
+
+std::vector<char> pack(const RenderResult& b) {
+    std::vector<char> bytes;
+    append(bytes, b.pixels);
+    append(bytes, b.hits);
+    append(bytes, b.shadows);
+    append(bytes, b.primary_map);
+    append(bytes, b.shadow_map);
+    append(bytes, b.depth);
+    append(bytes, b.first_triangle);
+    return bytes;
+}
+
+void unpack(const char* p, RenderResult& whole, int first_row, const BandLayout& band) {
+    const size_t px = size_t(first_row) * size_t(whole.width), spp = size_t(whole.aa) * size_t(whole.aa);
+    take(p, whole.pixels, px, band.pixels);
+    take(p, whole.hits, px * spp, band.samples);
+    take(p, whole.shadows, px * spp, band.samples);
+    take(p, whole.primary_map, px, band.pixels);
+    take(p, whole.shadow_map, px, band.pixels);
+    take(p, whole.depth, px, band.pixels);
+    take(p, whole.first_triangle, px, band.pixels);
+}
+
+void allocate_whole(RenderResult& out, const RenderOptions& o) {
+    const size_t pixels = size_t(o.width) * size_t(o.height), samples = pixels * size_t(o.aa) * size_t(o.aa);
+    out.width = o.width, out.height = o.height, out.aa = o.aa, out.first_row = 0, out.rows = o.height;
+    out.pixels.resize(pixels);
+    if (o.hits_buffer) out.hits.resize(samples);
+    if (o.shadow_buffer) out.shadows.resize(samples);
+    if (o.primary_map) out.primary_map.resize(pixels);
+    if (o.shadow_map_light >= 0) out.shadow_map.resize(pixels);
+    if (o.pixel_hits) out.depth.resize(pixels), out.first_triangle.resize(pixels);
+}
+
+std::vector<char> pack_stats(const RenderStats& s) {
+    std::vector<uint64_t> counts;
+    std::vector<double> values;
+    for (const KindStats* k : {&s.primary, &s.shadow, &s.secondary}) {
+        const TraceStats& t = k->trace;
+        counts.insert(counts.end(), {t.tiles, t.rtt_tiles, t.rays, t.traced, t.answered, t.relevant_sum});
+        values.push_back(k->seconds);
+    }
+    counts.insert(counts.end(), s.rays_by_depth.begin(), s.rays_by_depth.end());
+    counts.push_back(uint64_t(s.threads));
+    values.push_back(s.wall_seconds);
+    std::vector<char> bytes;
+    append(bytes, counts);
+    append(bytes, values);
+    return bytes;
+}
+
+void unpack_stats(const char* p, RenderStats& s) {
+    std::vector<uint64_t> counts(18 + s.rays_by_depth.size() + 1);
+    std::vector<double> values(4);
+    take(p, counts, 0, counts.size());
+    take(p, values, 0, values.size());
+    size_t i = 0;
+    KindStats* kinds[3] = {&s.primary, &s.shadow, &s.secondary};
+    for (int k = 0; k < 3; ++k) {
+        TraceStats& t = kinds[k]->trace;
+        for (uint64_t* field : {&t.tiles, &t.rtt_tiles, &t.rays, &t.traced, &t.answered, &t.relevant_sum})
+            *field = counts[i++];
+        kinds[k]->seconds = values[size_t(k)];
+    }
+    for (uint64_t& d : s.rays_by_depth) d = counts[i++];
+    s.threads = int(counts[i]);
+    s.wall_seconds = values[3];
+}
+
+}  // namespace rtt::cli
