@@ -3,8 +3,8 @@
 #  1. -np 2 and -np 3 (oversubscribed) give the same bytes as one process, for the image, the
 #     hit and shadow buffers and the RTT map, and for every frame of a camera path; `rtt bench`
 #     spread over the ranks writes a report of the same form;
-#  2. a rank killed mid-render, a rank stopped (hung) past --rank-timeout, and a scene file that
-#     is bad on one rank only each end the job with a non-zero status, a line naming the rank,
+#  2. a rank killed mid-render, a rank stopped (hung) past --rank-timeout, a scene file that is
+#     bad on one rank only, and one whose geometry differs there each end the job with a non-zero status, a line naming the rank,
 #     and no output file.
 # Skips (status 0, a message) when the build has no MPI or mpirun is missing.
 set -euo pipefail
@@ -110,3 +110,12 @@ status=0
 timeout 60 "${mpi[@]}" -np 2 bash -c "cd r\$OMPI_COMM_WORLD_RANK && exec '$rtt' render --mesh scene.obj \
   --size 64x48 -q -o '$work/badscene.png'" > mpirun.log 2>&1 || status=$?
 expect_failure "rank 1 of 2: scene.obj:2" badscene $status
+
+# Both files load but hold different geometry: the shared tree would be wrong on rank 1, so the
+# job stops before rendering.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > r0/other.obj
+printf 'v 0 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\n' > r1/other.obj
+status=0
+timeout 60 "${mpi[@]}" -np 2 bash -c "cd r\$OMPI_COMM_WORLD_RANK && exec '$rtt' render --mesh other.obj \
+  --size 64x48 -q -o '$work/other.png'" > mpirun.log 2>&1 || status=$?
+expect_failure "rank 1 of 2: this rank's scene is not rank 0's" other $status

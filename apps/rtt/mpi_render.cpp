@@ -36,6 +36,7 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const 
                                 std::vector<RankStats>*, double) {
     return render(scene, tracer, options);
 }
+KdTree share_tree(const Scene&, const std::function<KdTree()>& build) { return build(); }
 void distribute_items(size_t count, const std::function<std::vector<char>(size_t)>& work,
                       const std::function<void(size_t, std::vector<char>&)>& done,
                       std::vector<RankStats>*, double, uint64_t) {
@@ -246,6 +247,47 @@ void mpi_abort(const std::string& message) {
     std::fflush(stderr);
     if (started) MPI_Abort(MPI_COMM_WORLD, 1);
     std::exit(1);
+}
+
+namespace {
+
+/// Waits for a non-blocking operation with short sleeps: Open MPI's blocking calls spin, and a
+/// rank waiting for rank 0's build would take a core from it on a shared host.
+void wait_quietly(MPI_Request& request) {
+    for (int done = 0;;) {
+        MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+        if (done) return;
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+}
+
+}  // namespace
+
+KdTree share_tree(const Scene& scene, const std::function<KdTree()>& build) {
+    if (world_size < 2) return build();
+    KdTree tree;
+    std::vector<char> bytes;
+    uint64_t header[2] = {0, geometry_hash(scene)};  // tree bytes, rank 0's geometry hash
+    if (world_rank == 0) {
+        tree = build();
+        bytes = pack_tree(tree);
+        header[0] = bytes.size();
+    }
+    const uint64_t mine = header[1];
+    MPI_Request request;
+    MPI_Ibcast(header, 2, MPI_UINT64_T, 0, MPI_COMM_WORLD, &request);
+    wait_quietly(request);
+    if (header[1] != mine)
+        mpi_abort("this rank's scene is not rank 0's (the geometry differs; every rank must load "
+                  "the same file)");
+    bytes.resize(header[0]);
+    // MPI counts are ints: the tree goes in pieces of at most 1 GiB.
+    for (uint64_t offset = 0; offset < header[0]; offset += uint64_t(1) << 30) {
+        const int count = int(std::min<uint64_t>(header[0] - offset, uint64_t(1) << 30));
+        MPI_Ibcast(bytes.data() + offset, count, MPI_BYTE, 0, MPI_COMM_WORLD, &request);
+        wait_quietly(request);
+    }
+    return world_rank == 0 ? tree : unpack_tree(bytes);
 }
 
 RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const RenderOptions& options,

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "rtt/kdtree.h"
 #include "rtt/render.h"
 
 namespace rtt::cli {
@@ -30,6 +31,12 @@ int mpi_size();
 /// Ends the whole job after a failure on this rank: prints "rtt: error: rank R: message" and
 /// aborts every rank (the exit status is not 0, and rank 0 writes no output).
 [[noreturn]] void mpi_abort(const std::string& message);
+
+/// The kd-tree every rank renders with: rank 0 builds it (build(), on all its threads) while the
+/// other ranks wait without spinning, then sends it to them (faster than building it again on
+/// every rank: docs/distributed.md). Each rank first checks that its scene's geometry is rank
+/// 0's, or the job stops naming the rank. Without MPI, or with one rank: build().
+KdTree share_tree(const Scene& scene, const std::function<KdTree()>& build);
 
 /// What one rank did in a distributed render: the load balance.
 struct RankStats {

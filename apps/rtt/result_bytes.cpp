@@ -1,6 +1,9 @@
 #include "result_bytes.h"
 
 #include <cstring>
+#include <type_traits>
+
+#include "rtt/error.h"
 
 namespace rtt::cli {
 namespace {
@@ -87,6 +90,57 @@ void unpack_stats(const char* p, RenderStats& s) {
     for (uint64_t& d : s.rays_by_depth) d = counts[i++];
     s.threads = int(counts[i]);
     s.wall_seconds = values[3];
+}
+
+std::vector<char> pack_tree(const KdTree& tree) {
+    static_assert(std::is_trivially_copyable_v<KdNode> && std::is_trivially_copyable_v<KdStats> &&
+                  std::is_trivially_copyable_v<Bbox3f>);
+    const uint64_t sizes[2] = {tree.nodes.size(), tree.leaf_triangles.size()};
+    const size_t node_bytes = tree.nodes.size() * sizeof(KdNode);
+    std::vector<char> bytes(sizeof sizes + sizeof tree.bounds + sizeof tree.stats + node_bytes +
+                            tree.leaf_triangles.size() * sizeof(uint32_t));
+    char* p = bytes.data();
+    for (const auto& [data, size] : {std::pair<const void*, size_t>{sizes, sizeof sizes},
+                                     {&tree.bounds, sizeof tree.bounds},
+                                     {&tree.stats, sizeof tree.stats},
+                                     {tree.nodes.data(), node_bytes},
+                                     {tree.leaf_triangles.data(), tree.leaf_triangles.size() * sizeof(uint32_t)}}) {
+        if (size) std::memcpy(p, data, size);
+        p += size;
+    }
+    return bytes;
+}
+
+KdTree unpack_tree(const std::vector<char>& bytes) {
+    KdTree tree;
+    uint64_t sizes[2];
+    const size_t head = sizeof sizes + sizeof tree.bounds + sizeof tree.stats;
+    if (bytes.size() < head) throw Error("a shared kd-tree arrived incomplete");
+    std::memcpy(sizes, bytes.data(), sizeof sizes);
+    if (bytes.size() != head + sizes[0] * sizeof(KdNode) + sizes[1] * sizeof(uint32_t))
+        throw Error("a shared kd-tree arrived with the wrong size");
+    std::memcpy(&tree.bounds, bytes.data() + sizeof sizes, sizeof tree.bounds);
+    std::memcpy(&tree.stats, bytes.data() + sizeof sizes + sizeof tree.bounds, sizeof tree.stats);
+    tree.nodes.resize(sizes[0]);
+    tree.leaf_triangles.resize(sizes[1]);
+    const char* p = bytes.data() + head;
+    take(p, tree.nodes, 0, tree.nodes.size());
+    take(p, tree.leaf_triangles, 0, tree.leaf_triangles.size());
+    return tree;
+}
+
+uint64_t geometry_hash(const Scene& scene) {
+    // FNV-1a over the bytes: cheap next to a build, and any changed coordinate changes it.
+    uint64_t h = 0xcbf29ce484222325ull;
+    const auto add = [&](const void* data, size_t size) {
+        const auto* b = static_cast<const unsigned char*>(data);
+        for (size_t i = 0; i < size; ++i) h = (h ^ b[i]) * 0x100000001b3ull;
+    };
+    const uint64_t counts[2] = {scene.vertices.size(), scene.triangles.size()};
+    add(counts, sizeof counts);
+    add(scene.vertices.data(), scene.vertices.size() * sizeof(Vec3f));
+    add(scene.triangles.data(), scene.triangles.size() * sizeof(TriangleIndices));
+    return h;
 }
 
 }  // namespace rtt::cli

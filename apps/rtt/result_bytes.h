@@ -1,11 +1,12 @@
 // What travels between ranks in a distributed render (apps/rtt/mpi_render.h): a band's or a
-// whole frame's arrays, and a frame's ray statistics, as bytes in one fixed order. Sizes follow
+// whole frame's arrays, a frame's ray statistics and the kd-tree, as bytes in one fixed order. Sizes follow
 // from the render options and the rows, so only the bytes are sent. No MPI here.
 #pragma once
 
 #include <cstddef>
 #include <vector>
 
+#include "rtt/kdtree.h"
 #include "rtt/render.h"
 
 namespace rtt::cli {
@@ -30,5 +31,14 @@ void allocate_whole(RenderResult& out, const RenderOptions& options);
 std::vector<char> pack_stats(const RenderStats& stats);
 /// The inverse of pack_stats; `stats.rays_by_depth` must already have its size.
 void unpack_stats(const char* bytes, RenderStats& stats);
+
+/// The whole tree: nodes, leaf lists, bounds and statistics.
+std::vector<char> pack_tree(const KdTree& tree);
+/// The inverse of pack_tree. Throws rtt::Error when the bytes are not a whole packed tree.
+KdTree unpack_tree(const std::vector<char>& bytes);
+
+/// A 64-bit hash of the scene's geometry (vertices and triangles), to check that ranks loaded
+/// the same scene before they share one tree.
+uint64_t geometry_hash(const Scene& scene);
 
 }  // namespace rtt::cli
