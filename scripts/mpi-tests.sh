@@ -23,13 +23,23 @@ trap 'rm -rf "$work"' EXIT
 cd "$work"
 
 args=(render --scene room --size 203x117 --aa 2 --threads 1 -q --light 1,2,1 --light 5,2.5,4)
-"$rtt" "${args[@]}" -o one.png --hits one.rtth --shadows one.rtts --rtt-map-primary one_map.png
+# The ray counts of --stats-json, without times, thread counts and build figures.
+counts='import json, sys
+def keep(d):
+    return {k: keep(v) if isinstance(v, dict) else v for k, v in d.items()
+            if not any(w in k for w in ("second", "mrays", "thread", "kd_build", "rank"))}
+print(json.dumps(keep(json.load(open(sys.argv[1]))), sort_keys=True))'
+"$rtt" "${args[@]}" -o one.png --hits one.rtth --shadows one.rtts --rtt-map-primary one_map.png \
+  --rtt-map-shadow one_smap.png --stats-json one.json
 for np in 2 3; do
   "${mpi[@]}" -np $np "$rtt" "${args[@]}" -o np$np.png --hits np$np.rtth --shadows np$np.rtts \
-    --rtt-map-primary np${np}_map.png
+    --rtt-map-primary np${np}_map.png --rtt-map-shadow np${np}_smap.png --stats-json np$np.json
   for ext in png rtth rtts; do cmp one.$ext np$np.$ext; done
   cmp one_map.png np${np}_map.png
-  echo "mpi-tests: -np $np: image, hits, shadows and map identical to one process"
+  cmp one_smap.png np${np}_smap.png
+  [ "$(/usr/bin/python3 -c "$counts" one.json)" = "$(/usr/bin/python3 -c "$counts" np$np.json)" ] ||
+    { echo "mpi-tests: -np $np: the ray counts differ" >&2; exit 1; }
+  echo "mpi-tests: -np $np: image, hits, shadows, both maps and ray counts identical to one process"
 done
 
 # A camera path: with at least as many frames as ranks, whole frames go to the ranks; every

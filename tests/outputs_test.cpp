@@ -220,6 +220,31 @@ TEST(Outputs, CameraPathRendersNumberedFramesLikeSingleRenders) {
     EXPECT_TRUE(std::filesystem::exists(dir.file("p%d.png")));
 }
 
+TEST(Outputs, CameraPathAsAJsonListGivesTheSameFrames) {
+    TempDir dir("json_path");
+    dir.write("path.txt", "1,1.6,4.5,3,1.2,0,0,1,0,60\n2,1.6,4.5,3,1.2,0,0,1,0,50\n");
+    dir.write("path.json", " [[1, 1.6, 4.5, 3, 1.2, 0, 0, 1, 0, 60],\n"
+                           "  {\"position\": [2, 1.6, 4.5], \"target\": [3, 1.2, 0], \"fovy\": 50}]\n");
+    const std::string common = "render --scene room --size 24x16 -q ";
+    ASSERT_EQ(run_cli(dir, common + "--camera-path path.txt -o t_%d.png").exit_code, 0);
+    const auto r = run_cli(dir, common + "--camera-path path.json -o j_%d.png");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    for (const char* f : {"0", "1"})
+        EXPECT_EQ(read_text(dir.file(std::string("t_") + f + ".png")),
+                  read_text(dir.file(std::string("j_") + f + ".png")));
+    const auto fails = [&](const std::string& json, const std::string& message) {
+        dir.write("bad.json", json);
+        const auto b = run_cli(dir, common + "--camera-path bad.json -o b_%d.png");
+        EXPECT_EQ(b.exit_code, 1) << json;
+        EXPECT_NE(b.err.find(message), std::string::npos) << json << ": " << b.err;
+    };
+    fails("[[1, 2, 3]]", "bad.json: camera 1: camera: expected 10 numbers");
+    fails("[{\"position\": [0, 0, 1]}]", "\"position\" and \"target\"");
+    fails("[{\"position\": [0, 0, 1], \"target\": [0, 0, 0], \"zoom\": 2}]", "unknown camera key \"zoom\"");
+    fails("[[1, 2, ", "not valid JSON");
+    fails("[]", "no camera");
+}
+
 }  // namespace
 }  // namespace rtt
 

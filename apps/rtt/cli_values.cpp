@@ -8,6 +8,8 @@
 #include <string_view>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "rtt/error.h"
 
 namespace rtt {
@@ -86,10 +88,71 @@ Camera parse_camera(const std::string& text) {
     return Camera{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, v[9]};
 }
 
+namespace {
+
+/// One camera of a JSON camera path: the 10 numbers of --camera as an array, or an object with
+/// the scene format's keys (position, target, up = [0, 1, 0], fovy = 60).
+Camera json_camera(const nlohmann::json& j) {
+    const auto numbers = [](const nlohmann::json& a, size_t count, const char* what) {
+        if (!a.is_array() || a.size() != count)
+            throw Error(std::string(what) + ": expected " + std::to_string(count) + " numbers");
+        std::vector<float> v;
+        for (const nlohmann::json& x : a) {
+            if (!x.is_number() || !std::isfinite(x.get<double>()))
+                throw Error(std::string(what) + ": expected finite numbers");
+            v.push_back(x.get<float>());
+        }
+        return v;
+    };
+    if (j.is_array()) {
+        const std::vector<float> v = numbers(j, 10, "camera");
+        return Camera{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, v[9]};
+    }
+    if (!j.is_object() || !j.contains("position") || !j.contains("target"))
+        throw Error("a camera is 10 numbers or an object with \"position\" and \"target\"");
+    for (const auto& item : j.items())
+        if (item.key() != "position" && item.key() != "target" && item.key() != "up" && item.key() != "fovy")
+            throw Error("unknown camera key \"" + item.key() + "\"");
+    Camera c;
+    const std::vector<float> p = numbers(j["position"], 3, "position"), t = numbers(j["target"], 3, "target");
+    c.position = {p[0], p[1], p[2]};
+    c.target = {t[0], t[1], t[2]};
+    if (j.contains("up")) {
+        const std::vector<float> u = numbers(j["up"], 3, "up");
+        c.up = {u[0], u[1], u[2]};
+    }
+    if (j.contains("fovy")) {
+        if (!j["fovy"].is_number()) throw Error("fovy: expected a number");
+        c.fovy_deg = j["fovy"].get<float>();
+    }
+    return c;
+}
+
+}  // namespace
+
 std::vector<Camera> read_camera_path(const std::string& path) {
     std::ifstream in(path);
     if (!in) throw Error(path + ": cannot open the camera path");
     std::vector<Camera> cameras;
+    // A JSON list when the file starts with '['; one camera per line otherwise.
+    in >> std::ws;
+    if (in.peek() == '[') {
+        nlohmann::json list;
+        try {
+            list = nlohmann::json::parse(in);
+        } catch (const nlohmann::json::exception& e) {
+            throw Error(path + ": not valid JSON: " + e.what());
+        }
+        for (size_t i = 0; i < list.size(); ++i) {
+            try {
+                cameras.push_back(json_camera(list[i]));
+            } catch (const Error& e) {
+                throw Error(path + ": camera " + std::to_string(i + 1) + ": " + e.what());
+            }
+        }
+        if (cameras.empty()) throw Error(path + ": no camera in the camera path");
+        return cameras;
+    }
     std::string line;
     for (int number = 1; std::getline(in, line); ++number) {
         const size_t first = line.find_first_not_of(" \t\r");

@@ -24,8 +24,9 @@ void parse_size(const std::string& text, int& width, int& height);
 /// Parses "px,py,pz,tx,ty,tz,ux,uy,uz,fovy"; throws rtt::Error on malformed text.
 Camera parse_camera(const std::string& text);
 
-/// Reads a camera path: one camera per line as parse_camera takes it; blank lines and lines
-/// starting with '#' are skipped. Throws rtt::Error "file:line: ..." on a bad line, or when
+/// Reads a camera path: one camera per line as parse_camera takes it (blank lines and lines
+/// starting with '#' are skipped), or, when the file starts with '[', a JSON list of cameras,
+/// each the 10 numbers as an array or an object with the scene format's camera keys. Throws rtt::Error "file:line: ..." on a bad line, or when
 /// the file is missing or holds no camera.
 std::vector<Camera> read_camera_path(const std::string& path);
 
