@@ -59,12 +59,9 @@ void write_image(const std::string& path, const std::string& ext, const RenderJo
         for (size_t i = 0; i < n; ++i) rgb[c][i] = r.pixels[i][c];
     }
     std::vector<ExrChannel> channels = {{"R", rgb[0], {}}, {"G", rgb[1], {}}, {"B", rgb[2], {}}};
-    const auto wants = [&](const char* aov) {
-        return std::find(job.aovs.begin(), job.aovs.end(), aov) != job.aovs.end();
-    };
-    if (wants("depth")) channels.push_back({"depth.Z", r.depth, {}});
+    if (job.wants_aov("depth")) channels.push_back({"depth.Z", r.depth, {}});
     std::vector<float> normal[3];
-    if (wants("normal")) {
+    if (job.wants_aov("normal")) {
         // Unit geometric normal of the first sample's triangle, as CONVENTIONS orders its
         // vertices; 0 on a miss.
         for (auto& v : normal) v.assign(n, 0.f);
@@ -80,9 +77,9 @@ void write_image(const std::string& path, const std::string& ext, const RenderJo
         channels.push_back({"N.Y", normal[1], {}});
         channels.push_back({"N.Z", normal[2], {}});
     }
-    if (wants("triangle")) channels.push_back({"triangle.id", {}, r.first_triangle});
+    if (job.wants_aov("triangle")) channels.push_back({"triangle.id", {}, r.first_triangle});
     std::vector<float> answered;
-    if (wants("rtt")) {
+    if (job.wants_aov("rtt")) {
         answered.resize(n);
         for (size_t i = 0; i < n; ++i) answered[i] = float(r.primary_map[i]) / 255.f;
         channels.push_back({"rtt.Y", answered, {}});
@@ -189,11 +186,8 @@ RenderJobResult run_render_job(const RenderJob& job) {
             throw Error("--aov: unknown output variable '" + a + "' (known: " + joined(aov_names()) + ")");
     if (!job.aovs.empty() && extension_of(job.image) != ".exr")
         throw Error("--aov writes EXR layers: give -o FILE.exr");
-    const auto wants = [&](const char* aov) {
-        return std::find(job.aovs.begin(), job.aovs.end(), aov) != job.aovs.end();
-    };
-    opt.pixel_hits = wants("depth") || wants("normal") || wants("triangle");
-    if (wants("rtt")) opt.primary_map = true;
+    opt.pixel_hits = job.wants_aov("depth") || job.wants_aov("normal") || job.wants_aov("triangle");
+    if (job.wants_aov("rtt")) opt.primary_map = true;
 
     std::vector<Camera> path;
     if (!job.camera_path.empty()) {

@@ -2,6 +2,7 @@
 // carries them out. The default main job and `rtt bench` reuse it.
 #pragma once
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,9 @@ struct RenderJob {
     int max_depth = 4;
     std::string image;        ///< -o: .png (8-bit sRGB), .exr (linear float + AOVs), .pfm, .ppm.
     std::vector<std::string> aovs;  ///< --aov: depth, normal, triangle, rtt (EXR layers).
+    bool wants_aov(const std::string& name) const {
+        return std::find(aovs.begin(), aovs.end(), name) != aovs.end();
+    }
     std::string hits;         ///< RTTH output.
     std::string shadows;      ///< RTTS output.
     std::string map_primary;  ///< Figure 5b PNG.

@@ -81,6 +81,18 @@ std::shared_ptr<BoundTracer> tracer_of(const std::shared_ptr<BoundScene>& scene,
     return values_checked([&] { return std::make_shared<BoundTracer>(scene, kind); });
 }
 
+/// One answer per ray of the arrays, computed by answer(rays, out) without the GIL (other
+/// Python threads run meanwhile).
+template <typename T, typename Answer>
+std::vector<T> answer_rays(const py::handle& origins, const py::handle& directions,
+                           const py::handle& tmin, const py::handle& tmax, const Answer& answer) {
+    const std::vector<Ray> rays = to_rays(origins, directions, tmin, tmax);
+    std::vector<T> out(rays.size());
+    py::gil_scoped_release unlocked;
+    values_checked([&] { answer(rays, out); return 0; });
+    return out;
+}
+
 }  // namespace
 }  // namespace rtt::python
 
@@ -160,23 +172,15 @@ PYBIND11_MODULE(_rtt, m) {
         .def_property_readonly("scene", &BoundTracer::scene)
         .def("intersect", [](BoundTracer& t, const py::handle& origins, const py::handle& directions,
                              const py::handle& tmin, const py::handle& tmax, int threads) {
-            const std::vector<Ray> rays = to_rays(origins, directions, tmin, tmax);
-            std::vector<Hit> hits(rays.size());
-            {
-                py::gil_scoped_release unlocked;
-                values_checked([&] { t.intersect(rays, hits, threads); return 0; });
-            }
+            const std::vector<Hit> hits = answer_rays<Hit>(origins, directions, tmin, tmax,
+                [&](const std::vector<Ray>& rays, std::vector<Hit>& out) { t.intersect(rays, out, threads); });
             return hit_arrays(hits, {py::ssize_t(hits.size())});
         }, "origins"_a, "directions"_a, "tmin"_a = 0.0, "tmax"_a = INFINITY, "threads"_a = 0,
             "Closest hits of arbitrary rays: (t float32, inf on a miss; tri int64, -1 on a miss).")
         .def("visible", [](BoundTracer& t, const py::handle& origins, const py::handle& directions,
                            const py::handle& tmin, const py::handle& tmax, int threads) {
-            const std::vector<Ray> rays = to_rays(origins, directions, tmin, tmax);
-            std::vector<uint8_t> vis(rays.size());
-            {
-                py::gil_scoped_release unlocked;
-                values_checked([&] { t.visible(rays, vis, threads); return 0; });
-            }
+            const std::vector<uint8_t> vis = answer_rays<uint8_t>(origins, directions, tmin, tmax,
+                [&](const std::vector<Ray>& rays, std::vector<uint8_t>& out) { t.visible(rays, out, threads); });
             py::array_t<bool> out(py::ssize_t(vis.size()));
             for (size_t i = 0; i < vis.size(); ++i) out.mutable_data()[i] = vis[i] != 0;
             return out;
