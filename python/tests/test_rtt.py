@@ -141,15 +141,10 @@ def test_bad_rays_raise_value_error(scene, origins, directions, kwargs, message)
         scene.tracer("ray").intersect(origins, directions, **kwargs)
 
 
-def read_buffer(path, magic, extra_header_words):
-    data = pathlib.Path(path).read_bytes()
-    assert data[:4] == magic
-    words = struct.unpack_from("<%dI" % (4 + extra_header_words), data, 4)
-    w, h, spp = words[1:4]
-    payload = np.frombuffer(data, dtype="<u4", offset=4 + 4 * len(words))
-    k = int(round(spp ** 0.5))
-    # CONVENTIONS: y, x, j, i -> the (H*K, W*K) sample grid of camera_hits.
-    return payload.reshape(h, w, k, k).transpose(0, 2, 1, 3).reshape(h * k, w * k)
+def sample_grid(buffer):
+    """(H, W, K, K) as rtt.read_hits gives it -> the (H*K, W*K) sample grid of camera_hits."""
+    h, w, k, _ = buffer.shape
+    return buffer.transpose(0, 2, 1, 3).reshape(h * k, w * k)
 
 
 CAMERA = [5.0, 3.0, 4.0, 0.0, 0.3, 0.0, 0.0, 1.0, 0.0, 50.0]
@@ -170,14 +165,16 @@ def test_camera_hits_and_visible_match_cli_buffers(tmp_path, rtt_cli, aa):
     subprocess.run([rtt_cli, "render", "--mesh", str(mesh), "--size", "%dx%d" % (w, h), "--aa", str(aa),
                     "--camera", ",".join(repr(c) for c in CAMERA), "--light", "0.5,4,1", "-q",
                     "--hits", str(tmp_path / "h.rtth"), "--shadows", str(tmp_path / "s.rtts")], check=True)
-    cli_hits = read_buffer(tmp_path / "h.rtth", b"RTTH", 0)
-    cli_shadows = read_buffer(tmp_path / "s.rtts", b"RTTS", 1)
+    cli_hits = sample_grid(rtt.read_hits(tmp_path / "h.rtth"))
+    shadows, lights = rtt.read_shadows(tmp_path / "s.rtts")
+    assert lights == 1 and shadows.shape == (h, w, aa, aa, 1)
+    cli_shadows = sample_grid(shadows[..., 0])
 
     scene = rtt.load(str(mesh))
     tracer = scene.tracer("rtt")
     t_grid, tri = tracer.camera_hits(CAMERA, w, h, aa=aa)
     assert tri.shape == (h * aa, w * aa)
-    np.testing.assert_array_equal(np.where(tri < 0, 0xFFFFFFFF, tri).astype(np.uint32), cli_hits)
+    np.testing.assert_array_equal(tri, cli_hits)
     stats = tracer.last_stats
     tiles = ((w + 3) // 4) * ((h + 3) // 4)  # padded to whole 4x4-pixel tiles, as the renderer does
     assert stats["tiles"] == tiles and stats["rays"] == tiles * 16 * aa * aa
@@ -196,7 +193,7 @@ def test_camera_hits_and_visible_match_cli_buffers(tmp_path, rtt_cli, aa):
     L = np.array(light, dtype=np.float32)
     visible = tracer.visible(L, (p - L).astype(np.float32), 1e-4, 1 - 1e-4)
     expected = np.zeros_like(cli_shadows)
-    expected[hit] = visible.astype(np.uint32)
+    expected[hit] = visible
     np.testing.assert_array_equal(expected, cli_shadows)
     assert 0 < visible.sum() < visible.size
 
@@ -262,3 +259,25 @@ def test_million_rays(scene):
     assert t.shape == (1_000_000,) and tracer.last_stats["rays"] == 1_000_000
     sample = slice(0, 1_000_000, 997)
     np.testing.assert_array_equal(tri[sample], scene.tracer("ray").intersect(o[sample], d[sample])[1])
+
+
+def test_buffer_readers_refuse_malformed_files(tmp_path):
+    def write(name, data):
+        (tmp_path / name).write_bytes(data)
+        return tmp_path / name
+
+    header = struct.pack("<4sIIII", b"RTTH", 1, 2, 1, 4)
+    good = write("good.rtth", header + struct.pack("<8I", 0, 1, 2, 3, 4, 5, 6, 0xFFFFFFFF))
+    hits = rtt.read_hits(good)
+    assert hits.shape == (1, 2, 2, 2) and hits[0, 1, 1, 1] == -1 and hits[0, 1, 0, 1] == 5
+    for name, data, message in [
+            ("short.rtth", header + struct.pack("<7I", *range(7)), "samples"),
+            ("magic.rtth", b"RTTS" + header[4:] + bytes(32), "not an RTTH"),
+            ("version.rtth", struct.pack("<4sIIII", b"RTTH", 2, 2, 1, 4) + bytes(32), "version"),
+            ("grid.rtth", struct.pack("<4sIIII", b"RTTH", 1, 2, 1, 3) + bytes(24), "K x K"),
+            ("empty.rtth", b"", "not an RTTH")]:
+        with pytest.raises(ValueError, match=message):
+            rtt.read_hits(write(name, data))
+    shadows, lights = rtt.read_shadows(write("s.rtts", struct.pack("<4sIIIII", b"RTTS", 1, 1, 1, 1, 3) +
+                                            struct.pack("<I", 0b101)))
+    assert lights == 3 and shadows[0, 0, 0, 0].tolist() == [True, False, True]
