@@ -184,6 +184,14 @@ TEST(Outputs, SkippedInputIsReportedWithItsLine) {
     EXPECT_NE(r.err.find("w.obj:8: face with 0 vertices skipped"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("w.obj:6: material 'shiny' is in no material library"), std::string::npos) << r.err;
     EXPECT_NE(r.out.find("input warnings: 4"), std::string::npos) << r.out;
+    // Zero-area triangles are kept (a ray can hit one edge-on) and counted in one line.
+    std::ofstream(dir.file("d.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\n"
+                                        "f 1 2 3\nf 1 2 4\nf 3 3 1\n";
+    const auto d = test::run_cli(dir, "render --mesh d.obj --size 8x8 -q --stats -o d.png");
+    ASSERT_EQ(d.exit_code, 0) << d.err;
+    EXPECT_NE(d.err.find("d.obj: 2 degenerate (zero-area) triangles kept, the first is triangle 1"),
+              std::string::npos) << d.err;
+    EXPECT_NE(d.out.find("input warnings: 1"), std::string::npos) << d.out;
 }
 
 }  // namespace

@@ -51,6 +51,18 @@ Scene load_mesh_file(const std::string& path) {
                   : ext == "off" ? detail::import_off(path)
                                  : detail::import_assimp_isolated(path);
     validate(scene);
+    // Zero-area triangles stay (a ray can still hit one edge-on, and indices must not move);
+    // say so, since they often mean a broken export.
+    size_t degenerate = 0, first = 0;
+    for (size_t i = 0; i < scene.triangles.size(); ++i) {
+        const TriangleIndices& t = scene.triangles[i];
+        const Vec3f& a = scene.vertices[t[0]];
+        if (cross(scene.vertices[t[1]] - a, scene.vertices[t[2]] - a) == Vec3f{0.f, 0.f, 0.f})
+            if (degenerate++ == 0) first = i;
+    }
+    if (degenerate)
+        scene.warn(path + ": " + std::to_string(degenerate) + " degenerate (zero-area) triangle" +
+                   (degenerate == 1 ? "" : "s") + " kept, the first is triangle " + std::to_string(first));
     return scene;
 }
 
