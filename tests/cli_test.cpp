@@ -167,7 +167,11 @@ TEST(Cli, BadInputGivesOneLineError) {
     const TempDir dir("errors");
     auto write = [&](const std::string& name, const std::string& text) {
         std::ofstream(dir.file(name)) << text;
-        return "'" + dir.file(name) + "'";
+        // Built up with += : `"'" + std::string&&` trips GCC 12's false -Wrestrict (PR 105329).
+        std::string quoted = "'";
+        quoted += dir.file(name);
+        quoted += "'";
+        return quoted;
     };
     const std::string bad_obj = write("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n");
     const std::string bad_ply =
