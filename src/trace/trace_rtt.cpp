@@ -28,10 +28,13 @@ void RttTracer::intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* 
     const int n = int(tile.rays.size());
     TraceStats st;
     for (SampleAnswer& a : answers) a = SampleAnswer::traced;
-    if (!shaft_tile(tile.shaft, tile.width, tile.height, tile.rays.size())) {
+    if (tile.shaft && refinable(tile.width, tile.height, tile.cell) &&
+        tile.rays.size() == size_t(tile.width) * size_t(tile.height)) {
+        intersect_region(tile, Part{0, 0, tile.width, tile.height}, hits, answers, st);
+    } else if (!shaft_tile(tile.shaft, tile.width, tile.height, tile.rays.size())) {
         trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
     } else {
-        intersect_shaft(tile, hits, answers, st);
+        intersect_shaft(tile, hits, answers, st, false);
     }
     st.tiles = 1;
     st.rays = uint64_t(n);
@@ -88,8 +91,9 @@ ShaftRegion RttTracer::primary_region(const Shaft& shaft, const PrimaryEnd& e) c
     return region;
 }
 
-void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
-                                std::span<SampleAnswer> answers, TraceStats& st) const {
+bool RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
+                                std::span<SampleAnswer> answers, TraceStats& st,
+                                bool refine) const {
     const int n = int(tile.rays.size());
     Ray corners[4];
     int cs[4];
@@ -99,8 +103,9 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
     // not).
     const bool lean = extended_ && takes_lean_pass(n, options_.lean_max_samples, corners);
     if (!(lean ? make_shaft_corners(corners, shaft) : make_shaft(corners, shaft))) {
+        if (refine) return false;
         trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
-        return;
+        return true;
     }
     CornerResult& res = tls_corners;
     PrimaryEnd end;
@@ -116,8 +121,9 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         const CornerStatus status = trace_corners<false, true>(tree_, triangles_, shaft, nullptr,
                                                                corners, tls_mailbox, res);
         if (status == CornerStatus::untraced) {
+            if (refine) return false;
             trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
-            return;
+            return true;
         }
         for (int i = 0; i < 4; ++i) hits[cs[i]] = res.hit[i];
         // One plane P for the 4 hits, as the walk asks (primary_end): R ends on P.
@@ -158,8 +164,9 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         const CornerStatus status = cull_shaft<false>(tree_, triangles_, shaft, walk_region,
                                                       walk_budget(n), tls_mailbox, res, narrow);
         if (status == CornerStatus::untraced) {
+            if (refine) return false;
             trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
-            return;
+            return true;
         }
         for (int i = 0; i < 4; ++i) hits[cs[i]] = res.hit[i];
         listed =
@@ -211,10 +218,11 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         st.relevant_sum += uint64_t(list.count);
         st.answered += answered;
     } else {
+        if (refine) return false;
         for (int s = 0; s < n; ++s)
             if (s != cs[0] && s != cs[1] && s != cs[2] && s != cs[3]) need.set(s);
     }
-    if (need.none(n)) return;
+    if (need.none(n)) return true;
     for_each_ray_block<fallback_width>(
         tile, [&](int s) { return need.test(s); },
         [&](const RayPacket<fallback_width>& packet, uint32_t active, const int* sample) {
@@ -223,6 +231,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
             for (uint32_t b = active; b; b &= b - 1)
                 hits[sample[std::countr_zero(b)]] = out[std::countr_zero(b)];
         });
+    return true;
 }
 
 uint64_t RttTracer::answer_primary(const RayTile& tile, const Shaft& s, const RelevantList& list,
