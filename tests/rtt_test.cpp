@@ -484,9 +484,10 @@ TEST(Rtt, RenderWithMirrorsMatchesReference) {
     }
 }
 
-// Regions of several 4x4-pixel tiles (RayTile::cell): RTT tries a region as one shaft, then
-// its halves down to single tiles. Every region size and split path must give the reference's
-// answers, regions cut by the image's edge included (sizes not divisible by the region).
+// Regions of several 4x4-pixel tiles (RayTile::cell): RTT tries a region as one shaft and
+// traces it when the shaft gives no list. Every region size must give the reference's answers,
+// regions cut by the image's edge included (sizes not divisible by the region), and regions
+// above rtt_max_samples_per_tile (traced by packets).
 TEST(Rtt, RegionsMatchReference) {
     const Scene scene = scene_of(room({0, 0, 0}));
     const KdTree tree = build_kdtree(scene);
@@ -494,9 +495,9 @@ TEST(Rtt, RegionsMatchReference) {
     const std::vector<Vec3f> lights = {{0, 3.5f, 0}, {-4, 3, 3}};
     const Camera view{{4, 2, 3.5f}, {-2, 1, -3}, {0, 1, 0}, 60};
     const Camera grazing{{0, 0.05f, 3.9f}, {0, 0.02f, -4}, {0, 1, 0}, 50};
-    double answered_k1[3] = {};
+    double answered_k1[4] = {};
     int i = 0;
-    for (const int region : {4, 16, 32}) {
+    for (const int region : {4, 16, 32, 64}) {
         Tally tally, k1;
         d.run(view, 150, 110, 1, lights, k1, region);
         d.run(view, 62, 45, 2, lights, tally, region);
@@ -506,7 +507,9 @@ TEST(Rtt, RegionsMatchReference) {
         tally.print("                 K = 2, 3");
         EXPECT_EQ(k1.mismatches + tally.mismatches, 0u);
         EXPECT_EQ(k1.segment_mismatches + tally.segment_mismatches, 0u);
-        EXPECT_GT(tally.answered_fraction(), 0.5);
+        if (region <= 16) {  // larger regions at K = 3 exceed rtt_max_samples_per_tile
+            EXPECT_GT(tally.answered_fraction(), 0.5);
+        }
         answered_k1[i++] = k1.answered_fraction();
     }
     // Larger regions answer more of the K = 1 rays: a shaft of a whole region answers the
@@ -515,7 +518,7 @@ TEST(Rtt, RegionsMatchReference) {
     EXPECT_GT(answered_k1[1], 0.5);
 }
 
-// The split paths on the hardest geometry: triangles on tile-corner rays, random soups.
+// Regions on the hardest geometry: triangles on tile-corner rays, random soups.
 TEST(Rtt, RegionsOnCornerRaysAndSoupsMatchBruteForce) {
     Tally tally;
     for (unsigned seed = 1; seed <= 2; ++seed) {

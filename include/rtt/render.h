@@ -85,9 +85,9 @@ struct RenderOptions {
     bool progress = false;       ///< Progress bar on stderr (only when stderr is a terminal
                                  ///< and the render takes longer than about a second).
     /// Side in pixels of the regions handed to the tracer as one tile (a multiple of 4, up to
-    /// max_region; 0 = default_region(aa)). RTT tries a region as one shaft and splits it down
-    /// to 4x4-pixel tiles where it cannot answer it; other tracers cut it into packets. Results
-    /// do not depend on it, bit for bit.
+    /// max_region; 0 = default_region(aa)). RTT tries a region as one shaft (at K = 1 a 4x4-pixel
+    /// tile is a single 16-wide packet, too few rays to pay for a shaft); other tracers cut it
+    /// into packets. Results do not depend on it, bit for bit.
     int region = 0;
     /// The region side render() uses: `region`, or default_region(aa) when it is 0.
     int region_pixels() const;

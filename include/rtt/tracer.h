@@ -37,8 +37,8 @@ struct RayTile {
     /// eye), so the 4 corner rays bound a convex shaft holding every other ray of the tile.
     bool shaft = false;
     /// Side in samples of the renderer's 4x4-pixel tiles (4K) when the tile is a larger region
-    /// of them (RenderOptions::region): RTT may split a region it cannot answer whole into
-    /// parts of whole cells. 0 = the tile is one cell.
+    /// of them (RenderOptions::region); 0 = the tile is one such tile. Tracers may size their
+    /// work by it (RTT's walk budget); answers never depend on it.
     int cell = 0;
 };
 

@@ -48,13 +48,10 @@ void RttTracer::occluded(const SegmentTile& tile, std::span<uint8_t> visible, Tr
     for (SampleAnswer& a : answers) a = SampleAnswer::traced;
     for (uint8_t& v : visible) v = 0;
     if (active_count == 0) {
-    } else if (tile.shaft && refinable(tile.width, tile.height, tile.cell) &&
-               tile.points.size() == size_t(tile.width) * size_t(tile.height)) {
-        occluded_region(tile, Part{0, 0, tile.width, tile.height}, visible, answers, st);
     } else if (!shaft_tile(tile.shaft, tile.width, tile.height, tile.points.size())) {
         occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
     } else {
-        occluded_shaft(tile, visible, answers, st, false);
+        occluded_shaft(tile, visible, answers, st);
     }
     st.tiles = 1;
     st.rays = active_count;
@@ -76,9 +73,8 @@ bool near_receiver(const FacingPlane& receiver, float tol, const Vec3f& w) {
 
 }  // namespace
 
-bool RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visible,
-                               std::span<SampleAnswer> answers, TraceStats& st,
-                               bool refine) const {
+void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visible,
+                               std::span<SampleAnswer> answers, TraceStats& st) const {
     const int n = int(tile.points.size());
     Ray corners[4];
     int cs[4];
@@ -91,9 +87,8 @@ bool RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
     if (!one_receiver_plane(tile) ||
         !normals_.facing(planes_.id[tile.triangles[0]], tile.light, receiver) ||
         !make_shaft(corners_of(tile, corners, cs), shaft)) {
-        if (refine) return false;
         occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
-        return true;
+        return;
     }
     const float tmax = corners[0].tmax;
     const float receiver_tol = (1.f - tmax) * receiver.h * 0.25f;
@@ -109,17 +104,17 @@ bool RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
         // leaves the whole tile to packets.
         for (int i = 0; i < 4; ++i)
             if (!near_receiver(receiver, receiver_tol, corners[i].dir)) {
-                if (refine) return false;
                 occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
-                return true;
+                return;
             }
         status =
-            cull_shaft<true>(tree_, triangles_, shaft, region, walk_budget(n), tls_mailbox, res,
+            cull_shaft<true>(tree_, triangles_, shaft, region,
+                             walk_budget(n, is_region(tile.width, tile.height, tile.cell)),
+                             tls_mailbox, res,
                              [](const PacketHit<4>&, ShaftRegion&) { return Narrowed::same; });
         if (status == CornerStatus::untraced) {
-            if (refine) return false;
             occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
-            return true;
+            return;
         }
     } else {
         status = trace_corners<true>(tree_, triangles_, shaft, &region, corners, tls_mailbox, res);
@@ -143,11 +138,10 @@ bool RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
         st.rtt_tiles += 1;
         st.relevant_sum += blocked ? 1 : uint64_t(res.list.count);
     } else {
-        if (refine) return false;
         for (int i = 0; i < n; ++i)
             if (tile.active[i] && i != cs[0] && i != cs[1] && i != cs[2] && i != cs[3]) need.set(i);
     }
-    if (need.none(n)) return true;
+    if (need.none(n)) return;
     for_each_segment_block<fallback_width>(
         tile, [&](int s) { return need.test(s); },
         [&](const RayPacket<fallback_width>& packet, uint32_t active, const int* sample) {
@@ -157,7 +151,6 @@ bool RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
                 visible[sample[lane]] = !((occ >> lane) & 1u);
             }
         });
-    return true;
 }
 
 uint64_t RttTracer::answer_shadows(const SegmentTile& tile, const Shaft& s,

@@ -68,28 +68,17 @@ private:
         return shaft && width >= 2 && height >= 2 && size_t(width) * size_t(height) == n &&
                n <= size_t(rtt_max_tile_samples);
     }
-    /// A region of more than one cell (RayTile::cell) whose parts RTT may try separately.
-    static bool refinable(int width, int height, int cell) {
-        return cell > 0 && (width > cell || height > cell) && width % cell == 0 &&
-               height % cell == 0;
+    /// A region of several 4x4-pixel tiles (RayTile::cell): tried as one shaft, and traced
+    /// whole by packets when the shaft gives no list.
+    static bool is_region(int width, int height, int cell) {
+        return cell > 0 && (width > cell || height > cell);
     }
-    /// A part of a region tile in samples: columns [x, x + w), rows [y, y + h), whole cells.
-    struct Part {
-        int x = 0, y = 0, w = 0, h = 0;
-    };
-    /// One part of a region (rtt_regions.cpp): tried as one shaft; a part RTT cannot answer
-    /// whole is split into halves along each side of more than one cell, down to cells.
-    void intersect_region(const RayTile& tile, Part part, std::span<Hit> hits,
-                          std::span<SampleAnswer> answers, TraceStats& st) const;
-    void occluded_region(const SegmentTile& tile, Part part, std::span<uint8_t> visible,
-                         std::span<SampleAnswer> answers, TraceStats& st) const;
     /// One shaft tile: answers every ray, adds the rays answered from a list, the tile and its
-    /// list length to `st`. With `refine`, a tile whose shaft gives no list is left unanswered
-    /// (false) for the caller to split, instead of being traced.
-    bool intersect_shaft(const RayTile& tile, std::span<Hit> hits, std::span<SampleAnswer> answers,
-                         TraceStats& st, bool refine) const;
-    bool occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visible,
-                        std::span<SampleAnswer> answers, TraceStats& st, bool refine) const;
+    /// list length to `st`.
+    void intersect_shaft(const RayTile& tile, std::span<Hit> hits, std::span<SampleAnswer> answers,
+                         TraceStats& st) const;
+    void occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visible,
+                        std::span<SampleAnswer> answers, TraceStats& st) const;
     bool one_receiver_plane(const SegmentTile& tile) const;
     /// Where a primary shaft's region ends: the slab end of the 4 corner hits (t, tri) and the
     /// plane they all lie on (plane_id = no_plane when they lie on several, or the apex is on
@@ -123,7 +112,10 @@ private:
     PlaneNormals normals_;
     /// Nodes the shaft walk (rtt_cull.h) and the paper's culling of deferred nodes may enter
     /// for a tile of n samples before the tile is traced instead.
-    int walk_budget(int n) const { return options_.walk_budget_base + options_.walk_budget_per_sample * n; }
+    int walk_budget(int n, bool region) const {
+        return options_.walk_budget_base +
+               (region ? n / options_.region_budget_divisor : options_.walk_budget_per_sample * n);
+    }
     int deferred_budget(int n) const { return options_.deferred_budget_base + n; }
 
     RttOptions options_;

@@ -28,13 +28,10 @@ void RttTracer::intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* 
     const int n = int(tile.rays.size());
     TraceStats st;
     for (SampleAnswer& a : answers) a = SampleAnswer::traced;
-    if (tile.shaft && refinable(tile.width, tile.height, tile.cell) &&
-        tile.rays.size() == size_t(tile.width) * size_t(tile.height)) {
-        intersect_region(tile, Part{0, 0, tile.width, tile.height}, hits, answers, st);
-    } else if (!shaft_tile(tile.shaft, tile.width, tile.height, tile.rays.size())) {
+    if (!shaft_tile(tile.shaft, tile.width, tile.height, tile.rays.size())) {
         trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
     } else {
-        intersect_shaft(tile, hits, answers, st, false);
+        intersect_shaft(tile, hits, answers, st);
     }
     st.tiles = 1;
     st.rays = uint64_t(n);
@@ -91,9 +88,8 @@ ShaftRegion RttTracer::primary_region(const Shaft& shaft, const PrimaryEnd& e) c
     return region;
 }
 
-bool RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
-                                std::span<SampleAnswer> answers, TraceStats& st,
-                                bool refine) const {
+void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
+                                std::span<SampleAnswer> answers, TraceStats& st) const {
     const int n = int(tile.rays.size());
     Ray corners[4];
     int cs[4];
@@ -103,9 +99,8 @@ bool RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
     // not).
     const bool lean = extended_ && takes_lean_pass(n, options_.lean_max_samples, corners);
     if (!(lean ? make_shaft_corners(corners, shaft) : make_shaft(corners, shaft))) {
-        if (refine) return false;
         trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
-        return true;
+        return;
     }
     CornerResult& res = tls_corners;
     PrimaryEnd end;
@@ -121,9 +116,8 @@ bool RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         const CornerStatus status = trace_corners<false, true>(tree_, triangles_, shaft, nullptr,
                                                                corners, tls_mailbox, res);
         if (status == CornerStatus::untraced) {
-            if (refine) return false;
             trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
-            return true;
+            return;
         }
         for (int i = 0; i < 4; ++i) hits[cs[i]] = res.hit[i];
         // One plane P for the 4 hits, as the walk asks (primary_end): R ends on P.
@@ -161,12 +155,13 @@ bool RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
             narrow_to(r, e);
             return Narrowed::smaller;
         };
-        const CornerStatus status = cull_shaft<false>(tree_, triangles_, shaft, walk_region,
-                                                      walk_budget(n), tls_mailbox, res, narrow);
+        const CornerStatus status = cull_shaft<false>(
+            tree_, triangles_, shaft, walk_region,
+            walk_budget(n, is_region(tile.width, tile.height, tile.cell)), tls_mailbox, res,
+            narrow);
         if (status == CornerStatus::untraced) {
-            if (refine) return false;
             trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
-            return true;
+            return;
         }
         for (int i = 0; i < 4; ++i) hits[cs[i]] = res.hit[i];
         listed =
@@ -218,11 +213,10 @@ bool RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         st.relevant_sum += uint64_t(list.count);
         st.answered += answered;
     } else {
-        if (refine) return false;
         for (int s = 0; s < n; ++s)
             if (s != cs[0] && s != cs[1] && s != cs[2] && s != cs[3]) need.set(s);
     }
-    if (need.none(n)) return true;
+    if (need.none(n)) return;
     for_each_ray_block<fallback_width>(
         tile, [&](int s) { return need.test(s); },
         [&](const RayPacket<fallback_width>& packet, uint32_t active, const int* sample) {
@@ -231,7 +225,6 @@ bool RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
             for (uint32_t b = active; b; b &= b - 1)
                 hits[sample[std::countr_zero(b)]] = out[std::countr_zero(b)];
         });
-    return true;
 }
 
 uint64_t RttTracer::answer_primary(const RayTile& tile, const Shaft& s, const RelevantList& list,
@@ -297,6 +290,7 @@ uint64_t RttTracer::answer_primary(const RayTile& tile, const Shaft& s, const Re
 void RttOptions::validate() const {
     if (walk_budget_base < 1 || walk_budget_per_sample < 0 || deferred_budget_base < 1)
         throw Error("RttOptions: the walk and deferred budgets must be at least 1 node (per-sample part >= 0)");
+    if (region_budget_divisor < 1) throw Error("RttOptions: region_budget_divisor must be at least 1");
     if (lean_max_samples < 0 || lean_max_samples > rtt_max_samples_per_tile)
         throw Error("RttOptions: lean_max_samples must be in 0.." + std::to_string(rtt_max_samples_per_tile));
 }
