@@ -3,7 +3,9 @@
 // (segments from the packet tracer's hit points, the renderer's active rule). The rays are
 // `rtt bench`'s (src/experiments/workload.h), so the two tools measure the same thing.
 //
-//   bench_trace [--scene=room] [--size=640x480] [--aa=1] [Google Benchmark flags]
+//   bench_trace [--scene=room] [--size=640x480] [--aa=1] [--region=0] [Google Benchmark flags]
+//
+// --region: pixels per tile side, as `rtt render --region` (0 = the renderer's default per K).
 //
 // One tracing thread. Counter Mrays = million rays (active segments) per CPU second of that
 // thread (Google Benchmark's rate; steadier than wall time on a shared machine).
@@ -52,30 +54,34 @@ void mark_answered(Frame& f) {
         };
         std::vector<uint8_t>& tiles = f.tile_answered.emplace_back(band.tile_count());
         for (size_t t = 0; t < band.tile_count(); ++t) {
-            rtt->intersect(band.ray_tile(t), hits, nullptr, answers);
+            const size_t m = band.tile_size(t);
+            answers.assign(m, SampleAnswer::traced);
+            rtt->intersect(band.ray_tile(t), std::span(hits).first(m), nullptr, answers);
             tiles[t] = any_answered();
         }
         std::vector<uint8_t>& jobs = f.job_answered.emplace_back(band.shadow_jobs.size());
         for (size_t j = 0; j < band.shadow_jobs.size(); ++j) {
             const ShadowJob& job = band.shadow_jobs[j];
-            rtt->occluded(band.segment_tile(job, lights[job.light].position), visible, nullptr,
-                          answers);
+            const size_t m = band.tile_size(job.tile);
+            answers.assign(m, SampleAnswer::traced);
+            rtt->occluded(band.segment_tile(job, lights[job.light].position),
+                          std::span(visible).first(m), nullptr, answers);
             jobs[j] = any_answered();
         }
     }
 }
 
-Frame make_frame(const std::string& scene_name, int width, int height, int aa) {
+Frame make_frame(const std::string& scene_name, int width, int height, int aa, int region) {
     Frame f;
     f.scene = load_bench_scene(scene_name);
-    const Workload workload(f.scene, width, height, aa, size_t(1) << 16);
+    const Workload workload(f.scene, width, height, aa, size_t(1) << 16, region);
     const auto packet = make_tracer("packet", f.scene.scene, f.scene.tree);
     for (int b = 0; b < workload.band_count(); ++b) {
         Band band = workload.make_band(b);
         std::vector<Hit> hits(band.rays.size());
-        const size_t n = band.tile_samples();
         for (size_t t = 0; t < band.tile_count(); ++t)
-            packet->intersect(band.ray_tile(t), std::span(hits).subspan(t * n, n));
+            packet->intersect(band.ray_tile(t),
+                              std::span(hits).subspan(band.tile_offset(t), band.tile_size(t)));
         workload.add_shadows(band, hits);
         for (const ShadowJob& j : band.shadow_jobs) f.shadow_rays += j.active;
         f.bands.push_back(std::move(band));
@@ -93,10 +99,10 @@ void primary(benchmark::State& state, const std::string& kind) {
     for (auto _ : state)
         for (const Band& band : frame->bands) {
             hits.resize(band.rays.size());
-            const size_t n = band.tile_samples();
             for (size_t t = 0; t < band.tile_count(); ++t) {
                 band.prefetch_ray_tile(t + 1);  // hot rays, as the renderer's (workload.h)
-                tracer->intersect(band.ray_tile(t), std::span(hits).subspan(t * n, n));
+                tracer->intersect(band.ray_tile(t),
+                                  std::span(hits).subspan(band.tile_offset(t), band.tile_size(t)));
             }
             benchmark::DoNotOptimize(hits.data());
         }
@@ -115,7 +121,8 @@ void shadow(benchmark::State& state, const std::string& kind) {
             for (size_t j = 0; j < band.shadow_jobs.size(); ++j) {
                 band.prefetch_shadow_job(j + 1);
                 const ShadowJob& job = band.shadow_jobs[j];
-                tracer->occluded(band.segment_tile(job, lights[job.light].position), visible);
+                tracer->occluded(band.segment_tile(job, lights[job.light].position),
+                                 std::span(visible).first(band.tile_size(job.tile)));
             }
             benchmark::DoNotOptimize(visible.data());
         }
@@ -150,10 +157,12 @@ void split(benchmark::State& state, const std::string& kind, bool shadows, bool 
                 if (shadows) {
                     band.prefetch_shadow_job(next);
                     const ShadowJob& job = band.shadow_jobs[ids[i]];
-                    tracer->occluded(band.segment_tile(job, lights[job.light].position), visible);
+                    tracer->occluded(band.segment_tile(job, lights[job.light].position),
+                                     std::span(visible).first(band.tile_size(job.tile)));
                 } else {
                     band.prefetch_ray_tile(next);
-                    tracer->intersect(band.ray_tile(ids[i]), hits);
+                    tracer->intersect(band.ray_tile(ids[i]),
+                                      std::span(hits).first(band.tile_size(ids[i])));
                 }
             }
             benchmark::DoNotOptimize(hits.data());
@@ -167,7 +176,7 @@ void split(benchmark::State& state, const std::string& kind, bool shadows, bool 
 
 int main(int argc, char** argv) {
     std::string scene = "room";
-    int width = 640, height = 480, aa = 1;
+    int width = 640, height = 480, aa = 1, region = 0;
     std::vector<char*> args;
     for (int i = 0; i < argc; ++i) {
         if (std::strncmp(argv[i], "--scene=", 8) == 0)
@@ -177,13 +186,15 @@ int main(int argc, char** argv) {
             continue;
         else if (std::strncmp(argv[i], "--aa=", 5) == 0)
             aa = std::atoi(argv[i] + 5);
+        else if (std::strncmp(argv[i], "--region=", 9) == 0)
+            region = std::atoi(argv[i] + 9);
         else
             args.push_back(argv[i]);
     }
     int n = int(args.size());
     benchmark::Initialize(&n, args.data());
     try {
-        static const rtt::bench::Frame f = rtt::bench::make_frame(scene, width, height, aa);
+        static const rtt::bench::Frame f = rtt::bench::make_frame(scene, width, height, aa, region);
         rtt::bench::frame = &f;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "bench_trace: error: %s\n", e.what());

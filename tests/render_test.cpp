@@ -174,9 +174,13 @@ TEST(Render, PaddedSizeMatchesBruteForceOnEverySample) {
         ASSERT_EQ(r.pixels.size(), size_t(w) * h);
         ASSERT_EQ(r.hits.size(), size_t(w) * h * k * k);
         EXPECT_EQ(hit_mismatches(f, o, r), 0u) << w << "x" << h << " K=" << k;
-        // Every tile whole: ceil(w/4) x ceil(h/4) tiles of 4K x 4K primary rays.
+        // Every tile whole: ceil(w/4) x ceil(h/4) tiles of 4K x 4K primary rays, handed over
+        // in regions of R x R pixels cut by the padded image's edge.
         const uint64_t tiles = uint64_t((w + 3) / 4) * uint64_t((h + 3) / 4);
-        EXPECT_EQ(r.stats.primary.trace.tiles, tiles);
+        const int r4 = o.region_pixels() / 4;
+        const uint64_t regions =
+            uint64_t(((w + 3) / 4 + r4 - 1) / r4) * uint64_t(((h + 3) / 4 + r4 - 1) / r4);
+        EXPECT_EQ(r.stats.primary.trace.tiles, regions);
         EXPECT_EQ(r.stats.primary.trace.rays, tiles * 16 * k * k);
         EXPECT_EQ(r.stats.rays_by_depth[0], tiles * 16 * k * k);
         if (k == 1) {
@@ -335,6 +339,35 @@ TEST(Render, BandsInAnyOrderAssembleTheSameImage) {
     EXPECT_THROW(render_bands(f.scene, *f.tracer, o, [](int& first, int& count) { first = 17, count = 2; return true; },
                               [](RenderResult&) {}),
                  Error);
+}
+
+// Regions (RenderOptions::region) of any size, also cut by the image's edge and by bands,
+// give the same bytes as 4x4-pixel tiles, with every tracer.
+TEST(Render, RegionSizeDoesNotChangeAnything) {
+    const Fixture f(make_test_scene());
+    RenderOptions o = options(90, 70, 2);
+    o.hits_buffer = o.shadow_buffer = o.pixel_hits = true;
+    o.region = 4;
+    const RenderResult a = render(f.scene, *f.tracer, o);
+    for (const int region : {0, 8, 12, 32, 256}) {
+        o.region = region;
+        const RenderResult b = render(f.scene, *f.tracer, o);
+        EXPECT_EQ(std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(Vec3f)), 0)
+            << "region " << region;
+        EXPECT_EQ(a.hits, b.hits);
+        EXPECT_EQ(a.shadows, b.shadows);
+        EXPECT_EQ(a.first_triangle, b.first_triangle);
+        EXPECT_EQ(a.stats.rays_by_depth, b.stats.rays_by_depth);
+        EXPECT_EQ(a.stats.shadow.trace.rays, b.stats.shadow.trace.rays);
+    }
+    o.region = 3;
+    EXPECT_THROW(render(f.scene, *f.tracer, o), Error);
+    o.region = 260;
+    EXPECT_THROW(render(f.scene, *f.tracer, o), Error);
+    EXPECT_EQ(default_region(1), 16);
+    EXPECT_EQ(default_region(2), 8);
+    EXPECT_EQ(default_region(3), 4);
+    EXPECT_EQ(default_region(6), 4);
 }
 
 TEST(Render, ImageDoesNotDependOnRequestedBuffers) {

@@ -24,6 +24,7 @@ struct BenchArgs {
     bool long_run = false;
     int threads = 1;
     int repetitions = 0;  // 0 = mode default
+    int region = 0;       // 0 = RenderOptions' default per K
     std::string scenes = "room,office,plants";
     std::string out_dir = "bench-results";
     std::string json;
@@ -132,6 +133,7 @@ void run(const BenchArgs& args, const std::vector<Experiment>& experiments) {
     config.scenes = split_list(args.scenes);
     for (const std::string& s : config.scenes) bench::require_scene(s);
     config.threads = args.threads;
+    config.region = args.region;
     config.mode = args.quick      ? bench::BenchMode::quick
                   : args.long_run ? bench::BenchMode::long_run
                                   : bench::BenchMode::full;
@@ -195,7 +197,8 @@ void add_bench_command(CLI::App& app) {
         "bench", "The paper's experiments (Table 1, Figures 5, 7, 8) and Embree, on the same rays");
     bench->require_subcommand(1);
     bench->footer(
-        "Every tracer answers the same rays: the renderer's 4x4-pixel tiles and, per tile and\n"
+        "Every tracer answers the same rays: the renderer's regions of 4x4-pixel tiles and, per\n"
+        "region and\n"
         "light, the shadow segments from the packet tracer's hit points. Answers are checked\n"
         "against the 4-wide packet tracer before timing (mismatches printed). Timed: the median\n"
         "of --reps repetitions after a checking pass, tracers interleaved; 1 thread unless\n"
@@ -211,6 +214,10 @@ void add_bench_command(CLI::App& app) {
     bench->add_option("--threads", args->threads, "Tracing threads (default 1: the paper measures one core, and ratios of tracers are steadiest on one; `rtt render` uses all cores)")
         ->capture_default_str();
     bench->add_option("--reps", args->repetitions, "Timed repetitions (default 3; 1 with --quick)");
+    bench->add_option("--region", args->region,
+                      "Pixels per side of the tiles handed to the tracers, as `rtt render "
+                      "--region` (0 = the renderer's default for each K)")
+        ->capture_default_str();
     bench->add_option("--scenes", args->scenes, "Comma-separated built-in scenes or scene files")
         ->capture_default_str();
     bench->add_option("--out-dir", args->out_dir, "Folder for plots and images")

@@ -161,6 +161,7 @@ RenderJobResult run_render_job(const RenderJob& job) {
     RenderOptions opt;
     parse_size(job.size, opt.width, opt.height);
     opt.aa = job.aa;
+    opt.region = job.region;
     opt.max_depth = job.max_depth;
     if (job.threads < 0) throw Error("--threads must be at least 1");
     opt.threads = job.threads;
@@ -325,6 +326,11 @@ void add_render_command(CLI::App& app) {
     cmd->add_option("--size", job->size, "Image size WxH (each side 1..16384)")
         ->capture_default_str();
     cmd->add_option("--aa", job->aa, "Antialiasing: K x K samples per pixel, K in 1..16")
+        ->capture_default_str();
+    cmd->add_option("--region", job->region,
+                    "Pixels per side of the regions handed to the tracer as one tile (a multiple "
+                    "of 4 up to 256; 0 = about 256 samples: 16 at K=1, 8 at K=2, else 4). RTT "
+                    "tries a region as one shaft; results do not depend on it")
         ->capture_default_str();
     cmd->add_option("--light", job->lights,
                     "Omni light at x,y,z (repeatable, at most 32; replaces the scene's)");

@@ -19,6 +19,7 @@ struct RenderJob {
     std::string camera_path;  ///< --camera-path FILE: one camera per line, a frame each.
     std::string size = "640x480";  ///< "WxH".
     int aa = 1;
+    int region = 0;  ///< --region: pixels per region side (0 = RenderOptions' default).
     std::vector<std::string> lights;  ///< "x,y,z" each; empty = scene's lights.
     std::string tracer;               ///< Empty = default_tracer_kind().
     int threads = 0;                  ///< 0 = all cores.

@@ -27,6 +27,10 @@ public:
     /// with t in [0, inf). Every place that shoots camera tiles (renderer, benchmarks, tests)
     /// uses this, so they all trace the same rays.
     void tile_rays(int tx, int ty, std::span<Ray> out) const;
+    /// The same for the `cols` x `rows` tiles from tile (tx, ty) as one grid of 4K cols by
+    /// 4K rows samples: out[sr * 4K cols + sc] is sample (sc % K, sr % K) of pixel
+    /// (4 tx + sc / K, 4 ty + sr / K).
+    void region_rays(int tx, int ty, int cols, int rows, std::span<Ray> out) const;
 
     int width() const { return width_; }
     int height() const { return height_; }

@@ -5,10 +5,12 @@
 //
 // Batches handed to the tracer
 // ----------------------------
-// * Primary: one RayTile per 4x4-pixel tile, 4K x 4K rays in CONVENTIONS' sample order
-//   restricted to the tile (sample row y*K+j, column x*K+i), shaft = true. An image whose size
-//   is not a multiple of 4 is rendered padded to one: padding pixels use CONVENTIONS' formula
-//   with the original W, H (x >= W, y >= H) and are cropped away, so every tile is whole.
+// * Primary: one RayTile per region of R x R pixels (RenderOptions::region; R a multiple of 4,
+//   a whole number of 4x4-pixel tiles, cut by the padded image's edge and by render_bands'
+//   bands), 4K columns and rows per tile, in CONVENTIONS' sample order restricted to the region
+//   (sample row y*K+j, column x*K+i), shaft = true, cell = 4K. An image whose size is not a
+//   multiple of 4 is rendered padded to one: padding pixels use CONVENTIONS' formula with the
+//   original W, H (x >= W, y >= H) and are cropped away, so every tile is whole.
 // * Shadow: per light, one SegmentTile over the same grid (points p = org + t * dir, the hit
 //   triangles, an active mask, shaft = the ray tile's shaft). A segment is active when the
 //   light can light the point: the light on the side of the hit triangle's plane the ray came
@@ -61,6 +63,12 @@ inline constexpr uint64_t max_render_samples = uint64_t(1) << 30;
 inline constexpr int max_reflection_depth = 64;
 /// Largest thread count accepted (more is a typo, not a machine).
 inline constexpr int max_render_threads = 1024;
+/// Largest region side (pixels) accepted by RenderOptions::region.
+inline constexpr int max_region = 256;
+/// The default region side for K x K antialiasing: about 256 samples per region (16 pixels at
+/// K = 1, 8 at K = 2, the 4x4-pixel tile from K = 3 on; docs/benchmarks.md, "RTT against
+/// Embree").
+int default_region(int aa);
 
 struct RenderOptions {
     Camera camera;
@@ -79,6 +87,13 @@ struct RenderOptions {
     bool shadows = true;
     bool progress = false;       ///< Progress bar on stderr (only when stderr is a terminal
                                  ///< and the render takes longer than about a second).
+    /// Side in pixels of the regions handed to the tracer as one tile (a multiple of 4, up to
+    /// max_region; 0 = default_region(aa)). RTT tries a region as one shaft (at K = 1 a 4x4-pixel
+    /// tile is a single 16-wide packet, too few rays to pay for a shaft); other tracers cut it
+    /// into packets. Results do not depend on it, bit for bit.
+    int region = 0;
+    /// The region side render() uses: `region`, or default_region(aa) when it is 0.
+    int region_pixels() const;
 
     /// Throws rtt::Error for a size, K, depth, thread count or map light out of range, a
     /// shadow buffer or map without shadows, or a sample count above max_render_samples. `light_count` is the scene's number of lights.

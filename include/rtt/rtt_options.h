@@ -29,6 +29,11 @@ struct RttOptions {
     /// one 16-wide packet visits for a 4x4-sample tile (docs/benchmarks.md). >= 1 and >= 0.
     int walk_budget_base = 48;
     int walk_budget_per_sample = 1;
+    /// Regions of several 4x4-pixel tiles (RayTile::cell, RenderOptions::region) of n samples
+    /// are walked with walk_budget_base + n / region_budget_divisor nodes instead: a region
+    /// whose shaft gives no list is traced whole, so its walk should give up early (at K = 1,
+    /// 48 + 256 / 4 nodes; docs/benchmarks.md, "RTT against Embree"). >= 1.
+    int region_budget_divisor = 4;
     /// The same for the paper's shaft culling of what its corners left out (rtt-paper, and
     /// the lean pass of `extended`): deferred_budget_base + n nodes. >= 1.
     int deferred_budget_base = 8;

@@ -36,6 +36,10 @@ struct RayTile {
     /// generated on a planar grid (pinhole camera; planar-mirror reflection about the mirrored
     /// eye), so the 4 corner rays bound a convex shaft holding every other ray of the tile.
     bool shaft = false;
+    /// Side in samples of the renderer's 4x4-pixel tiles (4K) when the tile is a larger region
+    /// of them (RenderOptions::region); 0 = the tile is one such tile. Tracers may size their
+    /// work by it (RTT's walk budget); answers never depend on it.
+    int cell = 0;
 };
 
 /// Shadow segments from one point light to the hit points of a tile (same grid as RayTile).
@@ -47,6 +51,7 @@ struct SegmentTile {
     std::span<const uint32_t> triangles;  ///< Triangle the sample's ray hit (plane identity).
     std::span<const uint8_t> active;    ///< 1 = answer this segment; 0 = skip (visible = 0).
     bool shaft = false;                 ///< Points come from a shaft tile (see RayTile).
+    int cell = 0;                       ///< As RayTile::cell.
 };
 
 /// Per-kind counters, the rows of the paper's Table 1. Added up over tiles and threads.

@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <chrono>
 
 #include "rtt/camera.h"
@@ -73,29 +74,37 @@ void BoundTracer::camera_hits(const Camera& camera, int width, int height, int a
     limits.aa = aa;
     limits.validate(0);
     const CameraRays rays(camera, width, height, aa);
-    const int side = 4 * aa;
+    // The renderer's regions (RenderOptions::region's default), so RTT answers as it does there.
+    const int r = limits.region_pixels() / 4, cell = r > 1 ? 4 * aa : 0;
     const size_t row = size_t(width) * size_t(aa);
     const int tiles_x = (width + 3) / 4, tiles_y = (height + 3) / 4;
+    const int regions_x = (tiles_x + r - 1) / r, regions_y = (tiles_y + r - 1) / r;
     tbb::combinable<TraceStats> partial;
     const double s = timed_in_arena(threads, [&] {
-        tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 0, tiles_x), [&](const auto& r) {
-            std::vector<Ray> tile(size_t(side) * size_t(side));
-            std::vector<Hit> tile_hits(tile.size());
-            std::vector<SampleAnswer> tile_answers(answers.empty() ? 0 : tile.size());
-            for (int ty = r.rows().begin(); ty != r.rows().end(); ++ty)
-                for (int tx = r.cols().begin(); tx != r.cols().end(); ++tx) {
-                    rays.tile_rays(tx, ty, tile);
-                    tracer_->intersect(RayTile{side, side, tile, true}, tile_hits, &partial.local(),
+        tbb::parallel_for(tbb::blocked_range2d<int>(0, regions_y, 0, regions_x), [&](const auto& range) {
+            std::vector<Ray> tile;
+            std::vector<Hit> tile_hits;
+            std::vector<SampleAnswer> tile_answers;
+            for (int ry = range.rows().begin(); ry != range.rows().end(); ++ry)
+                for (int rx = range.cols().begin(); rx != range.cols().end(); ++rx) {
+                    const int tx = rx * r, ty = ry * r;
+                    const int cols = std::min(r, tiles_x - tx), rows = std::min(r, tiles_y - ty);
+                    const int w = 4 * aa * cols, h = 4 * aa * rows;
+                    tile.resize(size_t(w) * size_t(h));
+                    tile_hits.resize(tile.size());
+                    tile_answers.resize(answers.empty() ? 0 : tile.size());
+                    rays.region_rays(tx, ty, cols, rows, tile);
+                    tracer_->intersect(RayTile{w, h, tile, true, cell}, tile_hits, &partial.local(),
                                        tile_answers);
-                    // Sample (sc, sr) of the tile is grid sample (4 tx K + sc, 4 ty K + sr);
+                    // Sample (sc, sr) of the region is grid sample (4 tx K + sc, 4 ty K + sr);
                     // padding beyond the image is dropped.
-                    for (int sr = 0; sr < side; ++sr) {
+                    for (int sr = 0; sr < h; ++sr) {
                         const int gy = 4 * ty * aa + sr;
                         if (gy >= height * aa) break;
-                        for (int sc = 0; sc < side; ++sc) {
+                        for (int sc = 0; sc < w; ++sc) {
                             const int gx = 4 * tx * aa + sc;
                             if (gx >= width * aa) break;
-                            const size_t at = size_t(gy) * row + size_t(gx), in = size_t(sr * side + sc);
+                            const size_t at = size_t(gy) * row + size_t(gx), in = size_t(sr * w + sc);
                             hits[at] = tile_hits[in];
                             if (!answers.empty()) answers[at] = tile_answers[in];
                         }

@@ -53,7 +53,7 @@ public:
     void intersect(std::span<const Ray> rays, std::span<Hit> hits, int threads);
     void visible(std::span<const Ray> rays, std::span<uint8_t> visible, int threads);
     /// Every primary sample of a width x height image with aa x aa samples, traced as the
-    /// renderer traces it (4x4-pixel shaft tiles); hits (and, if not empty, how each sample
+    /// renderer traces it (shaft regions of 4x4-pixel tiles); hits (and, if not empty, how each sample
     /// was answered) in row-major (H*aa) x (W*aa) order.
     void camera_hits(const Camera& camera, int width, int height, int aa, std::span<Hit> hits,
                      std::span<SampleAnswer> answers, int threads);

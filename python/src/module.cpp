@@ -214,7 +214,7 @@ PYBIND11_MODULE(_rtt, m) {
         }, "camera"_a = py::none(), "width"_a = 640, "height"_a = 480, "aa"_a = 1, py::kw_only(),
             "position"_a = py::none(), "target"_a = py::none(), "up"_a = py::none(), "fovy"_a = py::none(),
             "threads"_a = 0, "answers"_a = false,
-            "Every primary sample of the image, traced as 4x4-pixel shaft tiles: (t, tri) arrays of "
+            "Every primary sample of the image, traced as the renderer's shaft regions: (t, tri) arrays of "
             "shape (H*aa, W*aa), sample (i, j) of pixel (x, y) at [y*aa + j, x*aa + i]. answers=True "
             "adds a uint8 array of how each sample was answered: 0 traced, 1 RTT with an empty "
             "relevant list, 2 RTT from a list (the paper's Figure 5b).")

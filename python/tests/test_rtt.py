@@ -176,8 +176,11 @@ def test_camera_hits_and_visible_match_cli_buffers(tmp_path, rtt_cli, aa):
     assert tri.shape == (h * aa, w * aa)
     np.testing.assert_array_equal(tri, cli_hits)
     stats = tracer.last_stats
-    tiles = ((w + 3) // 4) * ((h + 3) // 4)  # padded to whole 4x4-pixel tiles, as the renderer does
-    assert stats["tiles"] == tiles and stats["rays"] == tiles * 16 * aa * aa
+    tx, ty = (w + 3) // 4, (h + 3) // 4  # padded to whole 4x4-pixel tiles, as the renderer does
+    tiles = tx * ty
+    r = 4 if aa == 1 else 2 if aa == 2 else 1  # tiles per region side (the renderer's default)
+    regions = -(-tx // r) * -(-ty // r)
+    assert stats["tiles"] == regions and stats["rays"] == tiles * 16 * aa * aa
     assert stats["rays"] == stats["traced"] + stats["answered"]
     if aa > 1:
         assert stats["rtt_tiles"] > 0 and stats["answered"] > 0

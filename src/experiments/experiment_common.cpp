@@ -71,7 +71,8 @@ std::string against_widest(const Measurement& m, ClockKind clock) {
 Measurement run_measurement(const BenchConfig& config, const BenchScene& scene,
                             const std::vector<NamedTracer>& tracers, int width, int height, int aa,
                             int threads) {
-    const Workload workload(scene, width, height, aa, MeasureOptions{}.band_samples);
+    const Workload workload(scene, width, height, aa, MeasureOptions{}.band_samples,
+                            config.region);
     MeasureOptions options;
     options.repetitions = config.repetitions;
     options.threads = threads;

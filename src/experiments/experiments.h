@@ -35,6 +35,7 @@ struct BenchConfig {
     int threads = 1;  ///< Tracing threads (the embree experiment adds all cores).
     BenchMode mode = BenchMode::full;
     int repetitions = 3;  ///< Timed repetitions per measurement.
+    int region = 0;       ///< RenderOptions::region of the workloads (0 = default per K).
     ClockKind clock = ClockKind::cpu;
     std::string out_dir = "bench-results";  ///< Plots and images.
     std::FILE* log = stdout;                ///< Tables and progress.

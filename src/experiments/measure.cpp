@@ -77,19 +77,21 @@ struct BandRunner {
     tbb::task_arena* arena;
 
     void primary(const Tracer& t, std::vector<Hit>& hits, TraceStats* stats) const {
-        const size_t n = band.tile_samples();
         hits.resize(band.rays.size());
+        const auto out = [&](size_t i) {
+            return std::span(hits).subspan(band.tile_offset(i), band.tile_size(i));
+        };
         if (!stats) {
             for_each_index(arena, band.tile_count(), [&](size_t i) {
                 band.prefetch_ray_tile(i + 1);
-                t.intersect(band.ray_tile(i), std::span(hits).subspan(i * n, n));
+                t.intersect(band.ray_tile(i), out(i));
             });
             return;
         }
         tbb::combinable<TraceStats> sums;
         for_each_index(arena, band.tile_count(), [&](size_t i) {
             band.prefetch_ray_tile(i + 1);
-            t.intersect(band.ray_tile(i), std::span(hits).subspan(i * n, n), &sums.local());
+            t.intersect(band.ray_tile(i), out(i), &sums.local());
         });
         sums.combine_each([&](const TraceStats& s) { *stats += s; });
     }
@@ -101,7 +103,7 @@ struct BandRunner {
             band.prefetch_shadow_job(j + 1);
             const ShadowJob& job = band.shadow_jobs[j];
             t.occluded(band.segment_tile(job, scene.lights[job.light].position),
-                       std::span(visible).subspan(j * n, n), s);
+                       std::span(visible).subspan(j * n, band.tile_size(job.tile)), s);
         };
         if (!stats) {
             for_each_index(arena, band.shadow_jobs.size(), [&](size_t j) { one(j, nullptr); });
@@ -124,7 +126,7 @@ uint64_t visibility_differences(const Band& band, const std::vector<uint8_t>& a,
     uint64_t d = 0;
     const size_t n = band.tile_samples();
     for (size_t j = 0; j < band.shadow_jobs.size(); ++j)
-        for (size_t i = 0; i < n; ++i) {
+        for (size_t i = 0; i < band.tile_size(band.shadow_jobs[j].tile); ++i) {
             const size_t s = j * n + i;
             d += band.masks[band.shadow_jobs[j].mask_offset + i] && (a[s] != 0) != (b[s] != 0);
         }

@@ -1,8 +1,10 @@
 // The rays of a benchmark: exactly the batches the renderer hands to its tracer (render.h,
 // "Batches handed to the tracer"), generated once and handed unchanged to every tracer.
 //
-// Primary: one RayTile per 4x4-pixel tile, 4K x 4K rays, shaft = true, over the image padded to
-// multiples of 4. Shadow: per tile and light, one SegmentTile whose points are the hit points
+// Primary: one RayTile per region of R x R pixels (RenderOptions::region, default
+// default_region(K)), RK x RK rays, shaft = true, cell = 4K (0 when R = 4), over the image
+// padded to multiples of 4: regions at the right and bottom edges are cut there, as the
+// renderer cuts them. Shadow: per tile and light, one SegmentTile whose points are the hit points
 // of the BASELINE tracer's primary hits (so every tracer answers the very same segments), whose
 // active mask follows the renderer's rule (render_detail::can_light: omni lights on the side of
 // the hit triangle the ray came from, spots also strictly inside the outer cone), and which is
@@ -56,8 +58,12 @@ struct Band {
     int first_tile_row = 0;
     int tile_rows = 0;
     int tiles_x = 0;
-    int side = 0;           ///< Samples per tile side, 4K.
-    std::vector<Ray> rays;  ///< Tile after tile (row-major tiles), side * side rays each.
+    int side = 0;           ///< Samples per tile side, RK (tiles at the image's edge: fewer).
+    int pixels = 4;         ///< Pixels per tile side, R.
+    int cell = 0;           ///< RayTile::cell, 4K (0 when a tile is one cell).
+    int last_width = 0;     ///< Samples per row of the tiles of the last column.
+    int last_height = 0;    ///< Sample rows of the tiles of the last row.
+    std::vector<Ray> rays;  ///< Tile after tile (row-major tiles), row-major samples in each.
 
     // Filled by Workload::add_shadows from the baseline's primary hits.
     std::vector<Vec3f> points;        ///< Hit point per sample (ray origin for a miss).
@@ -66,7 +72,18 @@ struct Band {
     std::vector<ShadowJob> shadow_jobs;
 
     size_t tile_count() const { return size_t(tile_rows) * size_t(tiles_x); }
+    /// Samples of the largest tile (scratch buffers).
     size_t tile_samples() const { return size_t(side) * size_t(side); }
+    int tile_width(size_t t) const { return t % size_t(tiles_x) + 1 == size_t(tiles_x) ? last_width : side; }
+    int tile_height(size_t t) const { return t / size_t(tiles_x) + 1 == size_t(tile_rows) ? last_height : side; }
+    size_t tile_size(size_t t) const { return size_t(tile_width(t)) * size_t(tile_height(t)); }
+    /// First sample of tile t in `rays` (and in every per-sample array of the band).
+    size_t tile_offset(size_t t) const {
+        const size_t row = t / size_t(tiles_x), col = t % size_t(tiles_x);
+        return row * size_t(side) * size_t(row_width()) + col * size_t(side) * size_t(tile_height(t));
+    }
+    /// Samples per row of tiles (all columns).
+    int row_width() const { return (tiles_x - 1) * side + last_width; }
     /// Primary tile t of this band.
     RayTile ray_tile(size_t t) const;
     /// Shadow tile of job j towards `light_position` (the scene's light of that job).
@@ -84,13 +101,16 @@ struct Band {
 class Workload {
 public:
     /// `band_samples`: bands hold at least this many samples (whole tile rows; the last band
-    /// may be smaller). Throws rtt::Error for a size or K out of the renderer's range.
-    Workload(const BenchScene& scene, int width, int height, int aa, size_t band_samples);
+    /// may be smaller). `region`: pixels per tile side as RenderOptions::region (0 = the
+    /// default). Throws rtt::Error for a size, K or region out of the renderer's range.
+    Workload(const BenchScene& scene, int width, int height, int aa, size_t band_samples,
+             int region = 0);
 
     const BenchScene& scene() const { return *scene_; }
     int width() const { return width_; }
     int height() const { return height_; }
     int aa() const { return aa_; }
+    int region() const { return region_; }
     int tiles_x() const { return tiles_x_; }
     int tiles_y() const { return tiles_y_; }
     int band_count() const { return int(band_rows_.size()); }
@@ -98,7 +118,7 @@ public:
     uint64_t primary_rays() const;
 
     /// The primary rays of band b, exactly as the renderer generates them (CONVENTIONS'
-    /// formula for pixel (4 tx + sc / K, 4 ty + sr / K), sample (sc % K, sr % K)).
+    /// formula for pixel (R tx + sc / K, R ty + sr / K), sample (sc % K, sr % K)).
     Band make_band(int b) const;
 
     /// Fills the band's shadow jobs from the primary hits (one per band sample, band order),
@@ -107,7 +127,7 @@ public:
 
 private:
     const BenchScene* scene_;
-    int width_, height_, aa_;
+    int width_, height_, aa_, region_;
     int tiles_x_, tiles_y_;
     std::vector<std::pair<int, int>> band_rows_;  ///< (first tile row, rows) per band.
     struct Lighting;

@@ -52,11 +52,15 @@ Vec3f CameraRays::direction(int x, int y, int i, int j) const {
 }
 
 void CameraRays::tile_rays(int tx, int ty, std::span<Ray> out) const {
-    const int k = aa_, side = 4 * k;
-    RTT_CHECK_EQ(out.size(), size_t(side) * size_t(side));
-    for (int sr = 0; sr < side; ++sr)
-        for (int sc = 0; sc < side; ++sc)
-            out[size_t(sr) * size_t(side) + size_t(sc)] =
+    region_rays(tx, ty, 1, 1, out);
+}
+
+void CameraRays::region_rays(int tx, int ty, int cols, int rows, std::span<Ray> out) const {
+    const int k = aa_, w = 4 * k * cols, h = 4 * k * rows;
+    RTT_CHECK_EQ(out.size(), size_t(w) * size_t(h));
+    for (int sr = 0; sr < h; ++sr)
+        for (int sc = 0; sc < w; ++sc)
+            out[size_t(sr) * size_t(w) + size_t(sc)] =
                 Ray{pos_, direction(tx * 4 + sc / k, ty * 4 + sr / k, sc % k, sr % k), 0.f, pos_inf};
 }
 

@@ -62,11 +62,11 @@ bool build_shaft_batch(const RenderContext& ctx, const RayBatch& parent, std::sp
     return true;
 }
 
-}  // namespace
 
-void trace_reflections(const RenderContext& ctx, ThreadStats& ts, const RayBatch& batch,
-                       std::span<const Hit> hits, std::span<const SurfacePoint> surf, int depth,
-                       std::span<Vec3f> colors) {
+/// The reflections of one 4x4-pixel tile (or of a batch that is not a region).
+void reflect_tile(const RenderContext& ctx, ThreadStats& ts, const RayBatch& batch,
+                  std::span<const Hit> hits, std::span<const SurfacePoint> surf, int depth,
+                  std::span<Vec3f> colors) {
     std::vector<uint32_t> mirror_samples;
     for (size_t i = 0; i < hits.size(); ++i)
         if (hits[i].valid() && surf[i].material->mirror > 0.f)
@@ -97,6 +97,43 @@ void trace_reflections(const RenderContext& ctx, ThreadStats& ts, const RayBatch
         const float m = surf[i].material->mirror;
         colors[i] = colors[i] * (1.f - m) + reflected[child.shaft ? i : k] * m;
     }
+}
+
+}  // namespace
+
+void trace_reflections(const RenderContext& ctx, ThreadStats& ts, const RayBatch& batch,
+                       std::span<const Hit> hits, std::span<const SurfacePoint> surf, int depth,
+                       std::span<Vec3f> colors) {
+    const int c = batch.cell;
+    if (c == 0 || (batch.width == c && batch.height == c)) {
+        reflect_tile(ctx, ts, batch, hits, surf, depth, colors);
+        return;
+    }
+    // A region: each 4x4-pixel tile reflects on its own, so that the reflected rays (whether
+    // a tile forms a mirror shaft, its start offset delta) do not depend on the region size.
+    bool mirrors = false;
+    for (size_t i = 0; i < hits.size(); ++i)
+        mirrors |= hits[i].valid() && surf[i].material->mirror > 0.f;
+    if (!mirrors) return;
+    RayBatch cell{c, c, batch.shaft, std::vector<Ray>(size_t(c) * size_t(c))};
+    std::vector<Hit> cell_hits(cell.rays.size());
+    std::vector<SurfacePoint> cell_surf(cell.rays.size());
+    std::vector<Vec3f> cell_colors(cell.rays.size());
+    for (int y0 = 0; y0 < batch.height; y0 += c)
+        for (int x0 = 0; x0 < batch.width; x0 += c) {
+            const auto at = [&](int r, int i) { return size_t(y0 + r) * size_t(batch.width) + size_t(x0 + i); };
+            for (int r = 0; r < c; ++r)
+                for (int i = 0; i < c; ++i) {
+                    const size_t k = size_t(r) * size_t(c) + size_t(i);
+                    cell.rays[k] = batch.rays[at(r, i)];
+                    cell_hits[k] = hits[at(r, i)];
+                    cell_surf[k] = surf[at(r, i)];
+                    cell_colors[k] = colors[at(r, i)];
+                }
+            reflect_tile(ctx, ts, cell, cell_hits, cell_surf, depth, cell_colors);
+            for (int r = 0; r < c; ++r)
+                for (int i = 0; i < c; ++i) colors[at(r, i)] = cell_colors[size_t(r) * size_t(c) + size_t(i)];
+        }
 }
 
 }  // namespace rtt::render_detail

@@ -55,6 +55,7 @@ struct RayBatch {
     int height = 0;
     bool shaft = false;
     std::vector<Ray> rays;
+    int cell = 0;  ///< RayTile::cell: 4K when the batch is a region of 4x4-pixel tiles.
 };
 
 /// Per-sample extras of a primary tile (tile order), for buffers and the Figure 5 maps.

@@ -36,7 +36,7 @@ void trace_shadows(const RenderContext& ctx, ThreadStats& ts, const RayBatch& ba
         }
         const SegmentTile tile{batch.width, batch.height, ctx.lights[l].light->position,
                                points,      triangles,    active,
-                               batch.shaft};
+                               batch.shaft, batch.cell};
         std::span<SampleAnswer> answers;
         if (int(l) == map_light) {
             record->shadow_answers.assign(n, SampleAnswer::traced);

@@ -1,14 +1,16 @@
-// The image as 4x4-pixel tiles (RTT's unit), rendered in parallel with oneTBB.
+// The image as regions of 4x4-pixel tiles (RTT's unit), rendered in parallel with oneTBB.
 //
 // A W x H image is padded up to multiples of 4; padding pixels get CONVENTIONS' rays for the
 // ORIGINAL W, H (pixel x >= W simply continues the formula) and are cropped when samples are
-// written out, so every tile the tracer sees is whole. Each tile is independent and written
-// to disjoint pixels, so the result does not depend on the thread count or schedule.
+// written out, so every tile the tracer sees is whole. Each region is independent and written
+// to disjoint pixels, so the result does not depend on the thread count, schedule or region
+// size.
 #include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/info.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
+#include <algorithm>
 #include <chrono>
 #include <functional>
 #include <string>
@@ -42,6 +44,9 @@ void RenderOptions::validate(size_t light_count) const {
     if (max_depth < 0 || max_depth > max_reflection_depth)
         throw Error("reflection depth " + std::to_string(max_depth) + " out of range (0.." +
                     std::to_string(max_reflection_depth) + ")");
+    if (region < 0 || region > max_region || region % 4 != 0)
+        throw Error("region " + std::to_string(region) + " out of range (0 = default, or a multiple of 4 up to " +
+                    std::to_string(max_region) + ")");
     if (threads < 0 || threads > max_render_threads)
         throw Error("thread count " + std::to_string(threads) + " out of range (1.." +
                     std::to_string(max_render_threads) + ")");
@@ -55,6 +60,14 @@ void RenderOptions::validate(size_t light_count) const {
         throw Error("a shadow buffer or shadow map needs shadow segments (shadows are off)");
 }
 
+int default_region(int aa) {
+    int region = 4;
+    while (region * 2 * aa <= 16) region *= 2;
+    return region;
+}
+
+int RenderOptions::region_pixels() const { return region > 0 ? region : default_region(aa); }
+
 namespace render_detail {
 namespace {
 
@@ -65,23 +78,24 @@ struct TileJob {
     int first_row = 0;  ///< Image row of out's first row (a band of tile rows).
 };
 
-void render_tile(const TileJob& job, int tx, int ty, ThreadStats& ts) {
+/// The region of cols x rows 4x4-pixel tiles from tile (tx, ty), traced as one batch.
+void render_region(const TileJob& job, int tx, int ty, int cols, int rows, ThreadStats& ts) {
     const RenderOptions& opt = job.ctx.options;
-    const int k = opt.aa, n = 4 * k, spp = k * k;
+    const int k = opt.aa, n = 4 * k * cols, spp = k * k;
     const int w = opt.width, h = opt.height;
 
-    RayBatch batch{n, n, true, std::vector<Ray>(size_t(n) * size_t(n))};
-    job.camera.tile_rays(tx, ty, batch.rays);
+    RayBatch batch{n, 4 * k * rows, true, std::vector<Ray>(size_t(n) * size_t(4 * k * rows)), 4 * k};
+    job.camera.region_rays(tx, ty, cols, rows, batch.rays);
 
     PrimaryRecord record;
     std::vector<Vec3f> colors(batch.rays.size());
     trace_batch(job.ctx, ts, batch, 0, colors, &record);
 
     RenderResult& out = job.out;
-    for (int py = 0; py < 4; ++py) {
+    for (int py = 0; py < 4 * rows; ++py) {
         const int y = ty * 4 + py;
         if (y >= h) break;
-        for (int px = 0; px < 4; ++px) {
+        for (int px = 0; px < 4 * cols; ++px) {
             const int x = tx * 4 + px;
             if (x >= w) break;
             Vec3f sum{0.f};
@@ -157,6 +171,8 @@ RenderStats render_bands(const Scene& scene, const Tracer& tracer, const RenderO
     const CameraRays camera(options.camera, options.width, options.height, options.aa);
     const RenderContext ctx = make_context(scene, tracer, options);
     const int tiles_x = (options.width + 3) / 4, tiles_y = (options.height + 3) / 4;
+    const int region_tiles = options.region_pixels() / 4;
+    const int regions_x = (tiles_x + region_tiles - 1) / region_tiles;
     const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
     tbb::enumerable_thread_specific<ThreadStats> per_thread([&] {
         ThreadStats s;
@@ -177,13 +193,21 @@ RenderStats render_bands(const Scene& scene, const Tracer& tracer, const RenderO
             RenderResult band;
             allocate(band, options, first_row, rows);
             const TileJob job{ctx, camera, band, first_row};
-            const int first_tile = first_tile_row * tiles_x, end_tile = (first_tile_row + tile_rows) * tiles_x;
+            // Regions on the image's grid of region_tiles x region_tiles tiles, cut by the
+            // band and the image's edge (the answers do not depend on how tiles are grouped).
+            const int end_row = first_tile_row + tile_rows;
+            const int region_rows = (end_row - 1) / region_tiles - first_tile_row / region_tiles + 1;
+            const int first_region_row = first_tile_row / region_tiles;
             arena.execute([&] {
-                tbb::parallel_for(tbb::blocked_range<int>(first_tile, end_tile), [&](const tbb::blocked_range<int>& r) {
+                tbb::parallel_for(tbb::blocked_range<int>(0, region_rows * regions_x), [&](const tbb::blocked_range<int>& r) {
                     ThreadStats& ts = per_thread.local();
-                    for (int t = r.begin(); t < r.end(); ++t) {
-                        render_tile(job, t % tiles_x, t / tiles_x, ts);
-                        progress.advance();
+                    for (int i = r.begin(); i < r.end(); ++i) {
+                        const int rx = i % regions_x, ry = first_region_row + i / regions_x;
+                        const int tx = rx * region_tiles, cols = std::min(region_tiles, tiles_x - tx);
+                        const int ty = std::max(ry * region_tiles, first_tile_row);
+                        const int rows = std::min((ry + 1) * region_tiles, end_row) - ty;
+                        render_region(job, tx, ty, cols, rows, ts);
+                        progress.advance(uint64_t(cols) * uint64_t(rows));
                     }
                 });
             });

@@ -8,7 +8,7 @@ void trace_batch(const RenderContext& ctx, ThreadStats& ts, const RayBatch& batc
                  std::span<Vec3f> colors, PrimaryRecord* record) {
     const size_t n = batch.rays.size();
     std::vector<Hit> hits(n);
-    const RayTile tile{batch.width, batch.height, batch.rays, batch.shaft};
+    const RayTile tile{batch.width, batch.height, batch.rays, batch.shaft, batch.cell};
     KindStats& kind = ts.kinds[depth == 0 ? primary_kind : secondary_kind];
     std::span<SampleAnswer> answers;
     if (record && ctx.options.primary_map) {

@@ -108,7 +108,9 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
                 return;
             }
         status =
-            cull_shaft<true>(tree_, triangles_, shaft, region, walk_budget(n), tls_mailbox, res,
+            cull_shaft<true>(tree_, triangles_, shaft, region,
+                             walk_budget(n, is_region(tile.width, tile.height, tile.cell)),
+                             tls_mailbox, res,
                              [](const PacketHit<4>&, ShaftRegion&) { return Narrowed::same; });
         if (status == CornerStatus::untraced) {
             occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);

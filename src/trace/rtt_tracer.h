@@ -68,6 +68,11 @@ private:
         return shaft && width >= 2 && height >= 2 && size_t(width) * size_t(height) == n &&
                n <= size_t(rtt_max_tile_samples);
     }
+    /// A region of several 4x4-pixel tiles (RayTile::cell): tried as one shaft, and traced
+    /// whole by packets when the shaft gives no list.
+    static bool is_region(int width, int height, int cell) {
+        return cell > 0 && (width > cell || height > cell);
+    }
     /// One shaft tile: answers every ray, adds the rays answered from a list, the tile and its
     /// list length to `st`.
     void intersect_shaft(const RayTile& tile, std::span<Hit> hits, std::span<SampleAnswer> answers,
@@ -107,7 +112,10 @@ private:
     PlaneNormals normals_;
     /// Nodes the shaft walk (rtt_cull.h) and the paper's culling of deferred nodes may enter
     /// for a tile of n samples before the tile is traced instead.
-    int walk_budget(int n) const { return options_.walk_budget_base + options_.walk_budget_per_sample * n; }
+    int walk_budget(int n, bool region) const {
+        return options_.walk_budget_base +
+               (region ? n / options_.region_budget_divisor : options_.walk_budget_per_sample * n);
+    }
     int deferred_budget(int n) const { return options_.deferred_budget_base + n; }
 
     RttOptions options_;

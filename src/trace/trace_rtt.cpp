@@ -155,8 +155,10 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
             narrow_to(r, e);
             return Narrowed::smaller;
         };
-        const CornerStatus status = cull_shaft<false>(tree_, triangles_, shaft, walk_region,
-                                                      walk_budget(n), tls_mailbox, res, narrow);
+        const CornerStatus status = cull_shaft<false>(
+            tree_, triangles_, shaft, walk_region,
+            walk_budget(n, is_region(tile.width, tile.height, tile.cell)), tls_mailbox, res,
+            narrow);
         if (status == CornerStatus::untraced) {
             trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
             return;
@@ -288,6 +290,7 @@ uint64_t RttTracer::answer_primary(const RayTile& tile, const Shaft& s, const Re
 void RttOptions::validate() const {
     if (walk_budget_base < 1 || walk_budget_per_sample < 0 || deferred_budget_base < 1)
         throw Error("RttOptions: the walk and deferred budgets must be at least 1 node (per-sample part >= 0)");
+    if (region_budget_divisor < 1) throw Error("RttOptions: region_budget_divisor must be at least 1");
     if (lean_max_samples < 0 || lean_max_samples > rtt_max_samples_per_tile)
         throw Error("RttOptions: lean_max_samples must be in 0.." + std::to_string(rtt_max_samples_per_tile));
 }

@@ -21,6 +21,9 @@
 //     plane and is known before the walk:
 //     an empty list means visible, a whole-tile occluder (CornerVerdict::blocks_all) blocked,
 //     otherwise each inner segment is tested against the list (any hit).
+// A tile may be a region of several of the renderer's 4x4-pixel tiles (RayTile::cell; at K = 1
+// 16x16 pixels by default): it is one shaft like any tile, walked with a smaller budget
+// (RttOptions::region_budget_divisor), and traced whole when it gives no list.
 // Everything else (tiles without shaft, inner rays failing a check) is traced by the SIMD
 // packet tracer, so answers always equal trace_ray's, ray for ray.
 //
