@@ -295,8 +295,10 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const 
     options.validate(scene.lights.size());
     const int tiles_x = (options.width + 3) / 4, tiles_y = (options.height + 3) / 4;
     // About 8 bands per rank: small enough to balance, large enough that a band's tiles keep a
-    // rank's threads busy.
-    const int band_rows = std::max(1, tiles_y / (8 * world_size));
+    // rank's threads busy. Bands start on the regions' grid, so every region is the one render()
+    // traces: which rays RTT answers (the maps, the counts) depends on where regions are cut.
+    const int region_tiles = options.region_pixels() / 4;
+    const int band_rows = std::max(1, tiles_y / (8 * world_size * region_tiles)) * region_tiles;
     RankStats mine{world_rank, 0, 0, 0};
     const auto start = Clock::now();
     RenderResult whole;

@@ -162,7 +162,9 @@ uint64_t render_memory_bytes(const RenderOptions& options);
 /// and hands their result to band_done (first_row, rows set; stats empty). Returns the
 /// statistics of every band rendered. A band's pixels and buffers are those render() gives
 /// for the same rows, bit for bit, whatever the band sizes: a distributed renderer
-/// (apps/rtt/mpi_render.cpp) assembles the image from bands rendered on several machines.
+/// (apps/rtt/mpi_render.cpp) assembles the image from bands rendered on several machines. A
+/// band edge also cuts the regions it crosses, so the RTT maps and the answered / traced counts
+/// equal render()'s when bands start on multiples of region_pixels() / 4 tile rows.
 /// Throws rtt::Error for options out of range or a band outside the image.
 RenderStats render_bands(const Scene& scene, const Tracer& tracer, const RenderOptions& options,
                          const std::function<bool(int& first_tile_row, int& tile_rows)>& next_band,
