@@ -2,13 +2,14 @@
 # Drives `rtt view` in a real window with synthetic input (run under xvfb-run by
 # tests/view_test.cpp): prints the camera (C), orbits with a left drag, dollies with the wheel,
 # flies with W held, prints it again, switches tracer (T) and quits with Escape.
-# Usage: view_input.sh RTT OUTPUT_FILE; exits with rtt's code.
+# Usage: view_input.sh RTT OUTPUT_FILE [rtt view options]; exits with rtt's code.
 set -u
 rtt=$1 out=$2
-"$rtt" view --scene room --size 96x72 -q >"$out" 2>&1 &
+shift 2
+"$rtt" view --size 96x72 -q "$@" >"$out" 2>&1 &
 pid=$!
 window=""
-for _ in $(seq 200); do
+for _ in $(seq 1200); do  # up to a minute: a sanitizer build under load starts slowly
   window=$(xdotool search --name '^rtt view' 2>/dev/null | head -1)
   [ -n "$window" ] && break
   sleep 0.05

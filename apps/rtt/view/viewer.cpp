@@ -90,7 +90,17 @@ void install_callbacks(GLFWwindow* window) {
         Input& in = input_of(w);
         // Flying keys (W A S D Q E) act while held: fly() reads them each frame.
         const KeyEffect effect = apply_key(key_char(key), *in.state);
-        if (effect != KeyEffect::none) in.effects.push_back(effect);
+        // Camera keys act at once: a drag later in the same batch of events must not move the
+        // camera before C prints it.
+        if (effect == KeyEffect::print_camera) {
+            std::printf("--camera %s\n", camera_string(in.camera->camera()).c_str());
+            std::fflush(stdout);
+        } else if (effect == KeyEffect::reset_camera) {
+            in.camera->reset();
+            in.camera_moved = true;
+        } else if (effect != KeyEffect::none) {
+            in.effects.push_back(effect);
+        }
     });
     glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int) {
         Input& in = input_of(w);
@@ -259,17 +269,11 @@ void run_viewer(const ViewerOptions& o) {
         for (KeyEffect e : std::exchange(input.effects, {})) {
             switch (e) {
             case KeyEffect::rerender: dirty = true; break;
-            case KeyEffect::print_camera:
-                std::printf("--camera %s\n", camera_string(camera.camera()).c_str());
-                std::fflush(stdout);
-                break;
-            case KeyEffect::reset_camera:
-                camera.reset();
-                moved = true;
-                break;
             case KeyEffect::screenshot: save = true; break;
             case KeyEffect::help: std::printf("%s\n", key_help()); break;
             case KeyEffect::quit: glfwSetWindowShouldClose(window.get(), GLFW_TRUE); break;
+            case KeyEffect::print_camera:  // handled in the key callback, in event order
+            case KeyEffect::reset_camera:
             case KeyEffect::none: break;
             }
         }
