@@ -34,6 +34,7 @@
 #include "kdtree/kd_clip.h"
 #include "kdtree/kd_events.h"
 #include "kdtree/kd_sah.h"
+#include "kdtree/kd_small_build.h"
 #include "kdtree/kd_subtree.h"
 
 namespace rtt::kd {
@@ -51,12 +52,19 @@ constexpr int parallel_max_depth = 8;
 class SweepBuilder::Impl {
 public:
     Impl(std::span<const TriangleVerts> triangles, const KdBuildConfig& config, int max_depth)
-        : triangles_(triangles), config_(config), max_depth_(max_depth) {}
+        : triangles_(triangles), config_(config), max_depth_(max_depth),
+          small_(triangles, config, max_depth) {}
 
     /// Builds the subtree of a node (consuming its events) at the end of `out`. `budget` is the
     /// number of leaf references the subtree may hold (reference_budget, kd_build.cpp).
     void build(NodeEvents&& ev, const Bbox3f& box, int depth, double budget, Subtree& out) {
         const size_t n = ev.triangles;
+        if (n <= small_max_triangles) {
+            const std::vector<TriBox> items = items_of(ev);
+            ev = NodeEvents{};
+            small_.build(items, box, depth, budget, out);
+            return;
+        }
         SplitChoice split;
         if (n > size_t(config_.max_leaf_size) && depth < max_depth_) split = find_split(ev, box);
         if (!takes_split(split, n, budget, config_)) {
@@ -87,7 +95,26 @@ public:
         }
     }
 
+    const SmallBuilder& small() const { return small_; }
+
 private:
+    /// The bounds of a small node's triangles, read back from its events (n^2 look-ups on
+    /// n <= small_max_triangles; no per-triangle table needed).
+    static std::vector<TriBox> items_of(const NodeEvents& ev) {
+        std::vector<TriBox> items;
+        items.reserve(ev.triangles);
+        for (const Event& e : ev.axis[0])
+            if (e.type() != EventType::end) items.push_back({Bbox3f{}, e.tri()});
+        for (int a = 0; a < 3; ++a)
+            for (const Event& e : ev.axis[a]) {
+                TriBox* t = items.data();
+                while (t->tri != e.tri()) ++t;
+                if (e.type() != EventType::end) t->box.lo[a] = e.pos;
+                if (e.type() != EventType::start) t->box.hi[a] = e.pos;
+            }
+        return items;
+    }
+
     /// The three axes' sweeps, in parallel in large nodes (the top of the tree).
     SplitChoice find_split(const NodeEvents& ev, const Bbox3f& box) const {
         if (ev.triangles < parallel_min_triangles) return kd::find_split(ev, box, config_);
@@ -213,6 +240,7 @@ private:
     std::span<const TriangleVerts> triangles_;
     const KdBuildConfig& config_;
     int max_depth_;
+    SmallBuilder small_;
     tbb::enumerable_thread_specific<Scratch> scratch_;
 };
 
@@ -244,7 +272,10 @@ SweepBuilder::~SweepBuilder() = default;
 
 void SweepBuilder::build(std::span<const TriBox> items, const Bbox3f& box, int depth,
                          double budget, Subtree& out) {
-    impl_->build(events_of(items), box, depth, budget, out);
+    if (items.size() <= small_max_triangles)
+        impl_->small().build(items, box, depth, budget, out);
+    else
+        impl_->build(events_of(items), box, depth, budget, out);
 }
 
 }  // namespace rtt::kd
