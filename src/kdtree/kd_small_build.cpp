@@ -150,7 +150,7 @@ void SmallBuilder::build_top(std::vector<TriBox>& stack, size_t n, const Bbox3f&
     right_box.lo[split.axis] = split.pos;
 
     // The children's items, the above child's first so that the below child ends the stack.
-    // The sweep's rule (kd_sweep_build.cpp): a triangle touching the plane goes to the side it
+    // The binned levels' rule (kd_build.cpp): a triangle touching the plane goes to the side it
     // lies on, one lying in it to pside, one crossing it is clipped to each child.
     const int a = split.axis;
     const float p = split.pos;

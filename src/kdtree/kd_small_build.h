@@ -1,11 +1,11 @@
 // The bottom of the kd-tree: nodes of a few dozen triangles, built without event lists.
 //
-// Most of a kd-tree's nodes hold few triangles; there the sweep's per-node work (six event
+// Most of a kd-tree's nodes hold few triangles; there an event sweep's per-node work (six event
 // lists, sorting the straddlers' new events, merging) costs more than the triangles themselves.
 // This builder keeps each node's triangles as bounds in one stack-like buffer and counts every
 // candidate plane directly, O(n^2) per axis on n <= small_max_triangles, vectorised. It picks
-// exactly the plane the sweep picks (same candidates, counts, costs and ties), so the tree is
-// the one the sweep would build.
+// exactly the plane Wald and Havran's sweep picks (every triangle bound a candidate, the same
+// counts, costs and ties).
 #pragma once
 
 #include <span>
@@ -22,7 +22,7 @@ namespace rtt::kd {
 /// Nodes with at most this many triangles are built here (docs/benchmarks.md, "kd-tree build").
 inline constexpr size_t small_max_triangles = 64;
 
-/// The sweep's choice (find_split) for the node `box` holding `items`, counted directly.
+/// The exact sweep's choice for the node `box` holding `items`, counted directly.
 SplitChoice find_small_split(std::span<const TriBox> items, const Bbox3f& box,
                              const KdBuildConfig& config);
 
