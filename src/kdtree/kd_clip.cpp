@@ -75,11 +75,11 @@ bool clip_triangle_to_box(const TriangleVerts& tri, const Bbox3f& box, Bbox3f& o
         return true;
     }
 
-    double magnitude = 0.0;
+    float magnitude = 0.f;  // the max of floats is exact in float
     for (int a = 0; a < 3; ++a)
-        magnitude = std::max({magnitude, double(std::fabs(tb.lo[a])), double(std::fabs(tb.hi[a])),
-                              double(std::fabs(box.lo[a])), double(std::fabs(box.hi[a]))});
-    const double e = std::ldexp(magnitude, -36);
+        magnitude = std::max({magnitude, std::fabs(tb.lo[a]), std::fabs(tb.hi[a]),
+                              std::fabs(box.lo[a]), std::fabs(box.hi[a])});
+    const double e = double(magnitude) * 0x1p-36;  // exact, as ldexp, without the call
 
     Vec3d buf[2][max_vertices];
     int n = 3;
