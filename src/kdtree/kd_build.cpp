@@ -73,6 +73,10 @@ public:
         const size_t n = items.size();
         if (n <= kd::small_max_triangles) {
             kd::SmallBuilder(triangles_, config_, max_depth_).build(items, box, depth, budget, node->built);
+            // Held until the layout copies it: without the growth slack, or the build's peak
+            // memory would exceed the tree's by up to 2x.
+            node->built.nodes.shrink_to_fit();
+            node->built.leaf_triangles.shrink_to_fit();
             return node;
         }
         if (n > size_t(config_.max_leaf_size) && depth < max_depth_) {
@@ -92,8 +96,7 @@ public:
         left_box.hi[split.axis] = split.pos;
         right_box.lo[split.axis] = split.pos;
         std::vector<TriBox> left, right;
-        partition(items, split, left_box, right_box, left, right);
-        std::vector<TriBox>().swap(items);  // release now, not when the children return
+        partition(std::move(items), split, left_box, right_box, left, right);
         const auto build_below = [&] {
             node->below = build(std::move(left), left_box, depth + 1, kd::child_budget(budget, split, true));
         };
@@ -114,7 +117,9 @@ private:
     /// on, one lying in it to the side the SAH picked (pside), and one crossing it is clipped to
     /// each child (perfect splits). Every point of a triangle stays in some leaf that lists it,
     /// and every leaf whose interior the triangle meets lists it (trace/trace_ray.h relies on it).
-    void partition(const std::vector<TriBox>& items, const SplitChoice& split,
+    /// Consumes `items`, released as soon as they are read: the build's peak memory is the
+    /// largest node's triangles about twice, not three times.
+    void partition(std::vector<TriBox>&& items, const SplitChoice& split,
                    const Bbox3f& left_box, const Bbox3f& right_box, std::vector<TriBox>& left,
                    std::vector<TriBox>& right) const {
         const size_t n = items.size();
@@ -141,6 +146,7 @@ private:
             left.reserve(split.left_count);
             right.reserve(split.right_count);
             part(0, n, left, right);
+            std::vector<TriBox>().swap(items);
             return;
         }
         const size_t chunks = (n + grain - 1) / grain;
@@ -148,15 +154,20 @@ private:
         tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
             part(c * grain, std::min(n, (c + 1) * grain), lefts[c], rights[c]);
         });
+        std::vector<TriBox>().swap(items);
         concatenate(lefts, left);
         concatenate(rights, right);
     }
 
-    static void concatenate(const std::vector<std::vector<TriBox>>& parts, std::vector<TriBox>& all) {
+    /// Appends the parts in order, releasing each once copied.
+    static void concatenate(std::vector<std::vector<TriBox>>& parts, std::vector<TriBox>& all) {
         size_t total = 0;
         for (const auto& part : parts) total += part.size();
         all.reserve(total);
-        for (const auto& part : parts) all.insert(all.end(), part.begin(), part.end());
+        for (auto& part : parts) {
+            all.insert(all.end(), part.begin(), part.end());
+            std::vector<TriBox>().swap(part);
+        }
     }
 
     std::span<const TriangleVerts> triangles_;
