@@ -498,6 +498,56 @@ TEST(KdClip, ContainsEveryPointOfTheTriangleInsideTheBox) {
     EXPECT_EQ(missed, 0u);
 }
 
+TEST(KdClip, BothChildrenContainEveryPointOfTheTriangleInsideThem) {
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<float> pos(-2.f, 2.f), u01(0.f, 1.f);
+    size_t inside_points = 0, missed = 0, misses_returned = 0;
+    for (int k = 0; k < 4000; ++k) {
+        TriangleVerts t{{pos(rng), pos(rng), pos(rng)}, {pos(rng), pos(rng), pos(rng)},
+                        {pos(rng), pos(rng), pos(rng)}};
+        if (k % 4 == 0) t.v2.z = t.v1.z = t.v0.z;  // flat in z
+        Bbox3f box;
+        box.extend(Vec3f{pos(rng), pos(rng), pos(rng)} * 0.5f);
+        box.extend(Vec3f{pos(rng), pos(rng), pos(rng)} * 0.5f);
+        const int axis = k % 3;
+        const float split = box.lo[axis] + u01(rng) * (box.hi[axis] - box.lo[axis]);
+        const ClippedSides sides = clip_triangle_to_children(t, box, axis, split);
+        Bbox3f child[2] = {box, box};
+        child[0].hi[axis] = split;
+        child[1].lo[axis] = split;
+        const bool met[2] = {sides.left, sides.right};
+        const Bbox3f out[2] = {sides.left_box, sides.right_box};
+        const Bbox3f tb = triangle_bounds(t);
+        for (int c = 0; c < 2; ++c) {
+            if (!met[c]) continue;
+            for (int a = 0; a < 3; ++a) {
+                EXPECT_GE(out[c].lo[a], std::max(child[c].lo[a], tb.lo[a]));
+                EXPECT_LE(out[c].hi[a], std::min(child[c].hi[a], tb.hi[a]));
+            }
+        }
+        for (int j = 0; j < 200; ++j) {
+            float a = u01(rng), b = u01(rng);
+            if (a + b > 1.f) {
+                a = 1.f - a;
+                b = 1.f - b;
+            }
+            const Vec3d p{(1.0 - a - b) * t.v0.x + a * double(t.v1.x) + b * double(t.v2.x),
+                          (1.0 - a - b) * t.v0.y + a * double(t.v1.y) + b * double(t.v2.y),
+                          k % 4 == 0 ? double(t.v0.z)
+                                     : (1.0 - a - b) * t.v0.z + a * double(t.v1.z) + b * double(t.v2.z)};
+            for (int c = 0; c < 2; ++c) {
+                if (!box_contains(child[c], p)) continue;
+                ++inside_points;
+                misses_returned += !met[c];
+                missed += met[c] && !box_contains(out[c], p);
+            }
+        }
+    }
+    EXPECT_GT(inside_points, 10000u);
+    EXPECT_EQ(misses_returned, 0u);
+    EXPECT_EQ(missed, 0u);
+}
+
 TEST(KdClip, TouchingAndAxisAlignedCases) {
     const Bbox3f box{{0, 0, 0}, {1, 1, 1}};
     Bbox3f out;

@@ -96,7 +96,7 @@ public:
         left_box.hi[split.axis] = split.pos;
         right_box.lo[split.axis] = split.pos;
         std::vector<TriBox> left, right;
-        partition(std::move(items), split, left_box, right_box, left, right);
+        partition(std::move(items), split, box, left, right);
         const auto build_below = [&] {
             node->below = build(std::move(left), left_box, depth + 1, kd::child_budget(budget, split, true));
         };
@@ -119,14 +119,12 @@ private:
     /// and every leaf whose interior the triangle meets lists it (trace/trace_ray.h relies on it).
     /// Consumes `items`, released as soon as they are read: the build's peak memory is the
     /// largest node's triangles about twice, not three times.
-    void partition(std::vector<TriBox>&& items, const SplitChoice& split,
-                   const Bbox3f& left_box, const Bbox3f& right_box, std::vector<TriBox>& left,
-                   std::vector<TriBox>& right) const {
+    void partition(std::vector<TriBox>&& items, const SplitChoice& split, const Bbox3f& box,
+                   std::vector<TriBox>& left, std::vector<TriBox>& right) const {
         const size_t n = items.size();
         const auto part = [&](size_t begin, size_t end, std::vector<TriBox>& l, std::vector<TriBox>& r) {
             const int a = split.axis;
             const float p = split.pos;
-            Bbox3f b;
             for (size_t i = begin; i < end; ++i) {
                 const TriBox& t = items[i];
                 const float lo = t.box.lo[a], hi = t.box.hi[a];
@@ -137,8 +135,9 @@ private:
                 } else if (lo >= p) {
                     r.push_back(t);
                 } else {
-                    if (clip_triangle_to_box(triangles_[t.tri], left_box, b)) l.push_back({b, t.tri});
-                    if (clip_triangle_to_box(triangles_[t.tri], right_box, b)) r.push_back({b, t.tri});
+                    const ClippedSides c = clip_triangle_to_children(triangles_[t.tri], box, a, p);
+                    if (c.left) l.push_back({c.left_box, t.tri});
+                    if (c.right) r.push_back({c.right_box, t.tri});
                 }
             }
         };

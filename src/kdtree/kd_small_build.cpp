@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <new>
 
 #include "kdtree/kd_clip.h"
 
@@ -154,31 +155,49 @@ void SmallBuilder::build_top(std::vector<TriBox>& stack, size_t n, const Bbox3f&
     // lies on, one lying in it to pside, one crossing it is clipped to each child.
     const int a = split.axis;
     const float p = split.pos;
+    enum : uint8_t { left = 1, right = 2 };
+    uint8_t sides[small_max_triangles];
+    // Uninitialised slots: a node clips a few of its triangles, and default-constructing 64
+    // boxes per node would cost more than that.
+    union Slot {
+        Slot() {}
+        ClippedSides c;
+    } slots[small_max_triangles];
+    ClippedSides* clipped = &slots[0].c;
+    size_t straddlers = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const TriBox& t = stack[begin + i];
+        const float lo = t.box.lo[a], hi = t.box.hi[a];
+        if (lo == hi) {
+            sides[i] = lo < p || (lo == p && split.planar_left) ? left : right;
+        } else if (hi <= p) {
+            sides[i] = left;
+        } else if (lo >= p) {
+            sides[i] = right;
+        } else {
+            const ClippedSides& c = *new (&slots[straddlers++].c)
+                ClippedSides(clip_triangle_to_children(triangles_[t.tri], box, a, p));
+            sides[i] = uint8_t((c.left ? left : 0) | (c.right ? right : 0)) | 4u;  // 4: clipped
+        }
+    }
     stack.reserve(begin + 3 * n);  // no reallocation below: at most 2n children's items
-    const auto goes_left = [&](const TriBox& t) {
-        const float lo = t.box.lo[a], hi = t.box.hi[a];
-        return lo == hi ? lo < p || (lo == p && split.planar_left) : hi <= p;
-    };
-    const auto goes_right = [&](const TriBox& t) {
-        const float lo = t.box.lo[a], hi = t.box.hi[a];
-        return lo == hi ? !(lo < p || (lo == p && split.planar_left)) : lo >= p;
-    };
-    Bbox3f b;
-    for (size_t i = begin; i < begin + n; ++i) {
-        const TriBox& t = stack[i];
-        if (goes_right(t)) {
+    for (size_t i = 0, c = 0; i < n; ++i) {
+        const TriBox& t = stack[begin + i];
+        if (sides[i] & 4u) {
+            if (clipped[c].right) stack.push_back({clipped[c].right_box, t.tri});
+            ++c;
+        } else if (sides[i] == right) {
             stack.push_back(t);
-        } else if (!goes_left(t) && clip_triangle_to_box(triangles_[t.tri], right_box, b)) {
-            stack.push_back({b, t.tri});
         }
     }
     const size_t right_begin = begin + n, left_begin = stack.size();
-    for (size_t i = begin; i < begin + n; ++i) {
-        const TriBox& t = stack[i];
-        if (goes_left(t)) {
+    for (size_t i = 0, c = 0; i < n; ++i) {
+        const TriBox& t = stack[begin + i];
+        if (sides[i] & 4u) {
+            if (clipped[c].left) stack.push_back({clipped[c].left_box, t.tri});
+            ++c;
+        } else if (sides[i] == left) {
             stack.push_back(t);
-        } else if (!goes_right(t) && clip_triangle_to_box(triangles_[t.tri], left_box, b)) {
-            stack.push_back({b, t.tri});
         }
     }
     const size_t n_right = left_begin - right_begin, n_left = stack.size() - left_begin;
