@@ -56,7 +56,9 @@ struct Bins {
     std::vector<uint32_t> counts;  ///< [axis][lo, hi, flat][planes + 1]
 
     explicit Bins(int k = 0) : planes(k), counts(size_t(9) * size_t(k + 1), 0u) {}
-    uint32_t* at(int axis, int kind) { return counts.data() + size_t(axis * 3 + kind) * size_t(planes + 1); }
+    uint32_t* at(int axis, int kind) {
+        return counts.data() + size_t(axis * 3 + kind) * size_t(planes + 1);
+    }
     const uint32_t* at(int axis, int kind) const {
         return counts.data() + size_t(axis * 3 + kind) * size_t(planes + 1);
     }
@@ -87,7 +89,7 @@ SplitChoice sweep_between(std::span<const TriBox> items, int a, float from, floa
         const float lo = t.box.lo[a], hi = t.box.hi[a];
         n_left += lo <= from;
         n_right += hi >= to;
-        const bool lo_in = lo > from && lo < to, hi_in = hi > from && hi < to;
+        const bool lo_in = lo > from && lo<to, hi_in = hi> from && hi < to;
         if (lo == hi) {
             if (lo_in) events.emplace_back(lo, EventType::planar, 0);
         } else {
@@ -104,8 +106,10 @@ SplitChoice sweep_between(std::span<const TriBox> items, int a, float from, floa
         const float p = events[i].pos;
         size_t ending = 0, planar = 0, starting = 0;
         while (i < count && events[i].pos == p && events[i].type() == EventType::end) ++ending, ++i;
-        while (i < count && events[i].pos == p && events[i].type() == EventType::planar) ++planar, ++i;
-        while (i < count && events[i].pos == p && events[i].type() == EventType::start) ++starting, ++i;
+        while (i < count && events[i].pos == p && events[i].type() == EventType::planar)
+            ++planar, ++i;
+        while (i < count && events[i].pos == p && events[i].type() == EventType::start)
+            ++starting, ++i;
         n_right -= planar + ending;
         const auto consider = [&](size_t cl, size_t cr, bool planar_left) {
             const double c = cost(p, cl, cr);

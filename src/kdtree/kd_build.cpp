@@ -72,7 +72,8 @@ public:
         auto node = std::make_unique<TopNode>();
         const size_t n = items.size();
         if (n <= kd::small_max_triangles) {
-            kd::SmallBuilder(triangles_, config_, max_depth_).build(items, box, depth, budget, node->built);
+            kd::SmallBuilder(triangles_, config_, max_depth_)
+                .build(items, box, depth, budget, node->built);
             // Held until the layout copies it: without the growth slack, or the build's peak
             // memory would exceed the tree's by up to 2x.
             node->built.nodes.shrink_to_fit();
@@ -98,10 +99,12 @@ public:
         std::vector<TriBox> left, right;
         partition(std::move(items), split, box, left, right);
         const auto build_below = [&] {
-            node->below = build(std::move(left), left_box, depth + 1, kd::child_budget(budget, split, true));
+            node->below =
+                build(std::move(left), left_box, depth + 1, kd::child_budget(budget, split, true));
         };
         const auto build_above = [&] {
-            node->above = build(std::move(right), right_box, depth + 1, kd::child_budget(budget, split, false));
+            node->above = build(std::move(right), right_box, depth + 1,
+                                kd::child_budget(budget, split, false));
         };
         if (n >= parallel_min_triangles) {
             tbb::parallel_invoke(build_below, build_above);
@@ -122,7 +125,8 @@ private:
     void partition(std::vector<TriBox>&& items, const SplitChoice& split, const Bbox3f& box,
                    std::vector<TriBox>& left, std::vector<TriBox>& right) const {
         const size_t n = items.size();
-        const auto part = [&](size_t begin, size_t end, std::vector<TriBox>& l, std::vector<TriBox>& r) {
+        const auto part = [&](size_t begin, size_t end, std::vector<TriBox>& l,
+                              std::vector<TriBox>& r) {
             const int a = split.axis;
             const float p = split.pos;
             for (size_t i = begin; i < end; ++i) {
@@ -195,7 +199,8 @@ size_t lay_out(TopNode& root, KdTree& tree) {
         const size_t index = nodes++;
         self(self, *node.below);
         KdNode n;
-        if (nodes > KdNode::max_index || !n.set_inner(node.split.axis, node.split.pos, uint32_t(nodes)))
+        if (nodes > KdNode::max_index ||
+            !n.set_inner(node.split.axis, node.split.pos, uint32_t(nodes)))
             kd::too_large("more than 2^30 nodes");
         inner.emplace_back(index, n);
         self(self, *node.above);
@@ -254,16 +259,18 @@ KdTree build_kdtree(const Scene& scene, const KdBuildConfig& config) {
 
     KdTree tree;
     std::vector<TriBox> items(n);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t i = r.begin(); i < r.end(); ++i) items[i] = {triangle_bounds(triangles[i]), uint32_t(i)};
-    });
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                          for (size_t i = r.begin(); i < r.end(); ++i)
+                              items[i] = {triangle_bounds(triangles[i]), uint32_t(i)};
+                      });
     for (const TriBox& t : items) tree.bounds.extend(t.box);
     const auto setup_done = Clock::now();
 
     const int max_depth = config.max_depth > 0 ? config.max_depth : auto_max_depth(n);
-    const std::unique_ptr<TopNode> top = TopBuilder(triangles, config, max_depth)
-                                             .build(std::move(items), tree.bounds, 0,
-                                                    reference_budget * double(n));
+    const std::unique_ptr<TopNode> top =
+        TopBuilder(triangles, config, max_depth)
+            .build(std::move(items), tree.bounds, 0, reference_budget * double(n));
     const auto tree_done = Clock::now();
 
     const size_t subtrees = lay_out(*top, tree);

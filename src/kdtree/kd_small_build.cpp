@@ -71,7 +71,8 @@ SplitChoice find_small_split(std::span<const TriBox> items, const Bbox3f& box,
             const double b = int32_t(below[c]), ab = int32_t(above[c]), fl = int32_t(planar[c]);
             const auto cost = [&](double cl, double cr) {
                 const double c0 = trav + isect * (pl_area * cl + pr_area * cr);
-                const bool no_progress = ((p == box_hi) & (cl == nd)) | ((p == box_lo) & (cr == nd));
+                const bool no_progress =
+                    ((p == box_hi) & (cl == nd)) | ((p == box_lo) & (cr == nd));
                 const double factor = ((cl == 0.0) | (cr == 0.0)) ? bonus : 1.0;
                 return no_progress ? pos_inf : c0 * factor;
             };
@@ -117,7 +118,10 @@ SplitChoice find_small_split(std::span<const TriBox> items, const Bbox3f& box,
             }
         const bool planar_left = cost_left[at] == cheapest;
         const uint32_t fl = planar[at];
-        const SplitChoice axis_best{a, cand[at], planar_left, cheapest,
+        const SplitChoice axis_best{a,
+                                    cand[at],
+                                    planar_left,
+                                    cheapest,
                                     below[at] + (planar_left ? fl : 0),
                                     above[at] + (planar_left ? 0 : fl)};
         best = better(best, axis_best);
@@ -125,8 +129,8 @@ SplitChoice find_small_split(std::span<const TriBox> items, const Bbox3f& box,
     return best;
 }
 
-void SmallBuilder::build(std::span<const TriBox> items, const Bbox3f& box, int depth,
-                         double budget, Subtree& out) const {
+void SmallBuilder::build(std::span<const TriBox> items, const Bbox3f& box, int depth, double budget,
+                         Subtree& out) const {
     std::vector<TriBox> stack;
     stack.reserve(8 * small_max_triangles);
     stack.assign(items.begin(), items.end());
@@ -175,8 +179,8 @@ void SmallBuilder::build_top(std::vector<TriBox>& stack, size_t n, const Bbox3f&
         } else if (lo >= p) {
             sides[i] = right;
         } else {
-            const ClippedSides& c = *new (&slots[straddlers++].c)
-                ClippedSides(clip_triangle_to_children(triangles_[t.tri], box, a, p));
+            const ClippedSides& c = *new (&slots[straddlers++].c) ClippedSides(
+                clip_triangle_to_children(triangles_[t.tri], box, a, p));
             sides[i] = uint8_t((c.left ? left : 0) | (c.right ? right : 0)) | 4u;  // 4: clipped
         }
     }
