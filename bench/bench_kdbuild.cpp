@@ -1,6 +1,6 @@
-// SAH kd-tree build time (binned top levels, Wald & Havran sweep below) on generated meshes
-// of 10k, 100k and 1M triangles: a tessellated bumpy sphere and a soup of small random
-// triangles, with one thread and with all of them (oneTBB; the tree is the same either way).
+// SAH kd-tree build time (binned and refined levels, exact small-node search below) on
+// generated meshes of 10k, 100k and 1M triangles: a tessellated bumpy sphere and a soup of small
+// random triangles, with one thread and with all of them (oneTBB; the tree is the same either way).
 //
 //   bench_kdbuild [--help] [Google Benchmark flags, e.g. --benchmark_filter=threads:1]
 //

@@ -15,6 +15,7 @@
 
 #include "geom/triangle.h"
 #include "kdtree/kd_binned_sah.h"
+#include "kdtree/kd_small_build.h"
 #include "kdtree/kd_clip.h"
 #include "cli_values.h"
 #include "rtt/camera.h"
@@ -497,6 +498,56 @@ TEST(KdClip, ContainsEveryPointOfTheTriangleInsideTheBox) {
     EXPECT_EQ(missed, 0u);
 }
 
+TEST(KdClip, BothChildrenContainEveryPointOfTheTriangleInsideThem) {
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<float> pos(-2.f, 2.f), u01(0.f, 1.f);
+    size_t inside_points = 0, missed = 0, misses_returned = 0;
+    for (int k = 0; k < 4000; ++k) {
+        TriangleVerts t{{pos(rng), pos(rng), pos(rng)}, {pos(rng), pos(rng), pos(rng)},
+                        {pos(rng), pos(rng), pos(rng)}};
+        if (k % 4 == 0) t.v2.z = t.v1.z = t.v0.z;  // flat in z
+        Bbox3f box;
+        box.extend(Vec3f{pos(rng), pos(rng), pos(rng)} * 0.5f);
+        box.extend(Vec3f{pos(rng), pos(rng), pos(rng)} * 0.5f);
+        const int axis = k % 3;
+        const float split = box.lo[axis] + u01(rng) * (box.hi[axis] - box.lo[axis]);
+        const ClippedSides sides = clip_triangle_to_children(t, box, axis, split);
+        Bbox3f child[2] = {box, box};
+        child[0].hi[axis] = split;
+        child[1].lo[axis] = split;
+        const bool met[2] = {sides.left, sides.right};
+        const Bbox3f out[2] = {sides.left_box, sides.right_box};
+        const Bbox3f tb = triangle_bounds(t);
+        for (int c = 0; c < 2; ++c) {
+            if (!met[c]) continue;
+            for (int a = 0; a < 3; ++a) {
+                EXPECT_GE(out[c].lo[a], std::max(child[c].lo[a], tb.lo[a]));
+                EXPECT_LE(out[c].hi[a], std::min(child[c].hi[a], tb.hi[a]));
+            }
+        }
+        for (int j = 0; j < 200; ++j) {
+            float a = u01(rng), b = u01(rng);
+            if (a + b > 1.f) {
+                a = 1.f - a;
+                b = 1.f - b;
+            }
+            const Vec3d p{(1.0 - a - b) * t.v0.x + a * double(t.v1.x) + b * double(t.v2.x),
+                          (1.0 - a - b) * t.v0.y + a * double(t.v1.y) + b * double(t.v2.y),
+                          k % 4 == 0 ? double(t.v0.z)
+                                     : (1.0 - a - b) * t.v0.z + a * double(t.v1.z) + b * double(t.v2.z)};
+            for (int c = 0; c < 2; ++c) {
+                if (!box_contains(child[c], p)) continue;
+                ++inside_points;
+                misses_returned += !met[c];
+                missed += met[c] && !box_contains(out[c], p);
+            }
+        }
+    }
+    EXPECT_GT(inside_points, 10000u);
+    EXPECT_EQ(misses_returned, 0u);
+    EXPECT_EQ(missed, 0u);
+}
+
 TEST(KdClip, TouchingAndAxisAlignedCases) {
     const Bbox3f box{{0, 0, 0}, {1, 1, 1}};
     Bbox3f out;
@@ -521,10 +572,10 @@ TEST(KdClip, TouchingAndAxisAlignedCases) {
     EXPECT_TRUE(clip_triangle_to_box({{1, 0.25f, 0}, {1, 0.25f, 0}, {1, 0.25f, 0}}, box, out));
 }
 
-TEST(KdBinnedSah, CountsAtTheChosenPlaneAreExactAndNoPlaneIsCheaper) {
-    // Bounds on a 1/256 grid (the planes of a box [0, 1] x [0, 2] x [0, 4] lie exactly on it),
-    // a third of them flat: the counts at a plane, with ties and flat triangles in the plane,
-    // must be the sweep's.
+TEST(KdBinnedSah, CountsAtTheChosenPlaneAreExactAndNoBinnedPlaneIsCheaper) {
+    // Bounds on a 1/256 grid (the binned planes of a box [0, 1] x [0, 2] x [0, 4] lie exactly on
+    // it), a third of them flat: the counts at the chosen plane, with ties and flat triangles in
+    // the plane, must be the sweep's, and the refinement may only improve on the bins.
     const Bbox3f box{{0, 0, 0}, {1, 2, 4}};
     const KdBuildConfig config;
     std::mt19937 rng(21);
@@ -542,30 +593,62 @@ TEST(KdBinnedSah, CountsAtTheChosenPlaneAreExactAndNoPlaneIsCheaper) {
         }
         const kd::SplitChoice split = kd::find_binned_split(items, box, config);
         ASSERT_GE(split.axis, 0);
-        // Brute force over every plane of every axis: the sweep's counts and costs.
+        const auto counts = [&](int a, float p) {
+            size_t below = 0, above = 0, planar = 0;
+            for (const kd::TriBox& t : items) {
+                below += t.box.lo[a] < p;
+                above += t.box.hi[a] > p;
+                planar += t.box.lo[a] == p && t.box.hi[a] == p;
+            }
+            return std::array<size_t, 3>{below, above, planar};
+        };
+        // Brute force over every binned plane of every axis: the sweep's counts and costs.
+        const int planes = kd::binned_planes_for(items.size());
         double cheapest = pos_inf;
-        bool seen = false;
         for (int a = 0; a < 3; ++a) {
             const kd::AxisCost cost(a, box, items.size(), config);
-            for (int k = 1; k <= kd::binned_planes; ++k) {
-                const float p = float(double(box.hi[a]) * k / (kd::binned_planes + 1));
-                size_t below = 0, above = 0, planar = 0;
-                for (const kd::TriBox& t : items) {
-                    below += t.box.lo[a] < p;
-                    above += t.box.hi[a] > p;
-                    planar += t.box.lo[a] == p && t.box.hi[a] == p;
-                }
+            for (int k = 1; k <= planes; ++k) {
+                const float p = float(double(box.hi[a]) * k / (planes + 1));
+                const auto [below, above, planar] = counts(a, p);
                 cheapest = std::min({cheapest, cost(p, below + planar, above),
                                      cost(p, below, above + planar)});
-                if (a == split.axis && p == split.pos) {
-                    seen = true;
-                    EXPECT_EQ(split.left_count, below + (split.planar_left ? planar : 0));
-                    EXPECT_EQ(split.right_count, above + (split.planar_left ? 0 : planar));
-                }
             }
         }
-        EXPECT_TRUE(seen) << "the split lies on a binned plane";
-        EXPECT_EQ(split.cost, cheapest);
+        const auto [below, above, planar] = counts(split.axis, split.pos);
+        EXPECT_EQ(split.left_count, below + (split.planar_left ? planar : 0));
+        EXPECT_EQ(split.right_count, above + (split.planar_left ? 0 : planar));
+        const kd::AxisCost cost(split.axis, box, items.size(), config);
+        EXPECT_EQ(split.cost, cost(split.pos, split.left_count, split.right_count));
+        EXPECT_LE(split.cost, cheapest);
+    }
+}
+
+TEST(KdSmallSplit, MatchesTheExactSweep) {
+    // The small nodes' direct counts must choose what the sorted sweep over every bound chooses.
+    const Bbox3f box{{-1, -1, -1}, {1, 1, 1}};
+    const KdBuildConfig config;
+    std::mt19937 rng(22);
+    std::uniform_real_distribution<float> pos(-1.f, 1.f);
+    for (int round = 0; round < 300; ++round) {
+        std::vector<kd::TriBox> items(1 + size_t(round) % kd::small_max_triangles);
+        for (size_t i = 0; i < items.size(); ++i) {
+            items[i].tri = uint32_t(i);
+            for (int a = 0; a < 3; ++a) {
+                float lo = pos(rng), hi = i % 4 == 0 ? lo : pos(rng);
+                if (hi < lo) std::swap(lo, hi);
+                items[i].box.lo[a] = lo;
+                items[i].box.hi[a] = hi;
+            }
+        }
+        const kd::SplitChoice small = kd::find_small_split(items, box, config);
+        const kd::SplitChoice exact = kd::find_exact_split(items, box, config);
+        ASSERT_EQ(small.axis, exact.axis);
+        if (exact.axis < 0) continue;
+        EXPECT_EQ(small.pos, exact.pos);
+        EXPECT_EQ(small.planar_left, exact.planar_left);
+        EXPECT_EQ(small.left_count, exact.left_count);
+        EXPECT_EQ(small.right_count, exact.right_count);
+        EXPECT_NEAR(small.cost, exact.cost, 1e-12 * exact.cost);
     }
 }
 

@@ -30,9 +30,9 @@ nlohmann::json kind_json(const KindStats& k) {
 std::string kd_build_phases(const KdStats& s) {
     char line[256];
     std::snprintf(line, sizeof line,
-                  "setup %.3f s, binned top %.3f s (%zu nodes), sweep %.3f s (%zu subtrees), "
+                  "setup %.3f s, tree %.3f s (%zu binned nodes, %zu small subtrees), "
                   "layout %.3f s",
-                  s.setup_seconds, s.top_seconds, s.top_nodes, s.sweep_seconds, s.sweep_subtrees,
+                  s.setup_seconds, s.tree_seconds, s.binned_nodes, s.small_subtrees,
                   s.layout_seconds);
     return line;
 }
@@ -89,10 +89,9 @@ void write_stats_json(const std::string& path, const RenderJob& job, const Rende
         {"kd_build_seconds", r.kd_build_seconds},
         {"kd_build_phases",
          {{"setup_seconds", r.kd_stats.setup_seconds},
-          {"top_seconds", r.kd_stats.top_seconds},
-          {"top_nodes", r.kd_stats.top_nodes},
-          {"sweep_seconds", r.kd_stats.sweep_seconds},
-          {"sweep_subtrees", r.kd_stats.sweep_subtrees},
+          {"tree_seconds", r.kd_stats.tree_seconds},
+          {"binned_nodes", r.kd_stats.binned_nodes},
+          {"small_subtrees", r.kd_stats.small_subtrees},
           {"layout_seconds", r.kd_stats.layout_seconds}}},
         {"wall_seconds", s.wall_seconds},
         {"primary", kind_json(s.primary)},

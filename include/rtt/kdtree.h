@@ -42,11 +42,11 @@ struct KdStats {
     size_t triangle_references = 0;  ///< Sum of leaf triangle counts.
     double sah_cost = 0;             ///< Expected cost of a random ray, by the SAH.
     double build_seconds = 0;
-    /// Phases of the build, wall seconds: the triangles and their bounds, the binned top levels,
-    /// the sweep's subtrees below them, and laying the nodes out in one array.
-    double setup_seconds = 0, top_seconds = 0, sweep_seconds = 0, layout_seconds = 0;
-    size_t top_nodes = 0;       ///< Inner nodes split on binned planes.
-    size_t sweep_subtrees = 0;  ///< Subtrees built by the exact sweep.
+    /// Phases of the build, wall seconds: the triangles and their bounds, the tree (binned
+    /// levels and the small subtrees below them), and laying the nodes out in one array.
+    double setup_seconds = 0, tree_seconds = 0, layout_seconds = 0;
+    size_t binned_nodes = 0;    ///< Inner nodes split on binned (and refined) planes.
+    size_t small_subtrees = 0;  ///< Subtrees below them (small nodes' subtrees and leaves).
     size_t memory_bytes = 0;         ///< Nodes plus leaf triangle lists.
 };
 

@@ -11,32 +11,21 @@
 namespace rtt::kd {
 namespace {
 
-constexpr int planes = binned_planes;
+constexpr int max_planes = 255;
 
-/// Per axis, over the planes b_1 < ... < b_K: triangles whose lo has exactly k planes <= it,
-/// whose hi has exactly k planes < it, and flat ones lying in plane k. Then #{lo < b_k} is the
-/// sum of the first k lo counts, #{hi > b_k} the sum of the hi counts from k on.
-struct Bins {
-    std::array<std::array<uint32_t, planes + 1>, 3> lo{}, hi{}, flat{};
-
-    void add(const Bins& o) {
-        for (int a = 0; a < 3; ++a)
-            for (int k = 0; k <= planes; ++k) {
-                lo[a][k] += o.lo[a][k];
-                hi[a][k] += o.hi[a][k];
-                flat[a][k] += o.flat[a][k];
-            }
-    }
-};
+/// Triangles per task when a large node counts its triangles.
+constexpr size_t grain = 8192;
 
 /// The planes of one axis: their positions, and a fast exact count of the planes below a value.
 struct AxisPlanes {
-    std::array<float, planes + 2> pos;  ///< pos[1..planes]; pos[0] = -inf, pos[planes+1] = +inf
+    std::array<float, max_planes + 2> pos;  ///< pos[1..planes]; pos[0] = -inf, pos[planes+1] = +inf
+    int planes = 0;
     float lo = 0.f, scale = 0.f;
 
     /// Evenly spaced planes strictly inside (lo, hi), strictly increasing; false when the box
     /// is too thin along the axis to hold them.
-    bool init(float box_lo, float box_hi) {
+    bool init(float box_lo, float box_hi, int k_planes) {
+        planes = k_planes;
         lo = box_lo;
         scale = float(planes + 1) / (box_hi - box_lo);
         pos[0] = neg_inf;
@@ -59,51 +48,165 @@ struct AxisPlanes {
     }
 };
 
+/// Per axis, over the planes b_1 < ... < b_K: triangles whose lo has exactly k planes <= it,
+/// whose hi has exactly k planes < it, and flat ones lying in plane k. Then #{lo < b_k} is the
+/// sum of the first k lo counts, #{hi > b_k} the sum of the hi counts from k on.
+struct Bins {
+    int planes = 0;
+    std::vector<uint32_t> counts;  ///< [axis][lo, hi, flat][planes + 1]
+
+    explicit Bins(int k = 0) : planes(k), counts(size_t(9) * size_t(k + 1), 0u) {}
+    uint32_t* at(int axis, int kind) {
+        return counts.data() + size_t(axis * 3 + kind) * size_t(planes + 1);
+    }
+    const uint32_t* at(int axis, int kind) const {
+        return counts.data() + size_t(axis * 3 + kind) * size_t(planes + 1);
+    }
+    void add(const Bins& o) {
+        for (size_t i = 0; i < counts.size(); ++i) counts[i] += o.counts[i];
+    }
+};
+
+void count(std::span<const TriBox> items, const AxisPlanes (&axes)[3], Bins& b) {
+    for (const TriBox& t : items)
+        for (int a = 0; a < 3; ++a) {
+            const float lo = t.box.lo[a], hi = t.box.hi[a];
+            const int k_lo = axes[a].count_below(lo, false);
+            ++b.at(a, 0)[k_lo];
+            ++b.at(a, 1)[axes[a].count_below(hi, true)];
+            if (lo == hi && k_lo > 0 && axes[a].pos[k_lo] == lo) ++b.at(a, 2)[k_lo];
+        }
+}
+
+/// The sweep over the triangle bounds strictly between `from` and `to` on axis `a`, with exact
+/// counts (Wald & Havran 2006, Algorithm 4, started part-way): the planes between two binned
+/// planes, or every plane when from = -inf and to = +inf.
+SplitChoice sweep_between(std::span<const TriBox> items, int a, float from, float to,
+                          const AxisCost& cost, EventList& events) {
+    events.clear();
+    size_t n_left = 0, n_right = 0;  // lo <= from; hi >= to (+ those ending inside, below)
+    for (const TriBox& t : items) {
+        const float lo = t.box.lo[a], hi = t.box.hi[a];
+        n_left += lo <= from;
+        n_right += hi >= to;
+        const bool lo_in = lo > from && lo<to, hi_in = hi> from && hi < to;
+        if (lo == hi) {
+            if (lo_in) events.emplace_back(lo, EventType::planar, 0);
+        } else {
+            if (lo_in) events.emplace_back(lo, EventType::start, 0);
+            if (hi_in) events.emplace_back(hi, EventType::end, 0);
+        }
+    }
+    std::sort(events.begin(), events.end());
+    for (const Event& e : events) n_right += e.type() != EventType::start;
+
+    SplitChoice best;
+    const size_t count = events.size();
+    for (size_t i = 0; i < count;) {
+        const float p = events[i].pos;
+        size_t ending = 0, planar = 0, starting = 0;
+        while (i < count && events[i].pos == p && events[i].type() == EventType::end) ++ending, ++i;
+        while (i < count && events[i].pos == p && events[i].type() == EventType::planar)
+            ++planar, ++i;
+        while (i < count && events[i].pos == p && events[i].type() == EventType::start)
+            ++starting, ++i;
+        n_right -= planar + ending;
+        const auto consider = [&](size_t cl, size_t cr, bool planar_left) {
+            const double c = cost(p, cl, cr);
+            if (c < best.cost) best = {a, p, planar_left, c, cl, cr};
+        };
+        consider(n_left + planar, n_right, true);
+        if (planar > 0) consider(n_left, n_right + planar, false);
+        n_left += starting + planar;
+    }
+    return best;
+}
+
+/// The better of two choices on one axis; at equal cost the lower plane, planar left first
+/// (the one the sweep meets first).
+SplitChoice first_cheapest(const SplitChoice& x, const SplitChoice& y) {
+    if (x.axis < 0) return y;
+    if (y.axis < 0) return x;
+    if (x.cost != y.cost) return y.cost < x.cost ? y : x;
+    return y.pos < x.pos || (y.pos == x.pos && y.planar_left && !x.planar_left) ? y : x;
+}
+
 }  // namespace
+
+SplitChoice find_exact_split(std::span<const TriBox> items, const Bbox3f& box,
+                             const KdBuildConfig& config) {
+    SplitChoice best;
+    EventList events;
+    for (int a = 0; a < 3; ++a) {
+        const AxisCost cost(a, box, items.size(), config);
+        if (!cost.has_area()) return best;
+        best = better(best, sweep_between(items, a, neg_inf, pos_inf, cost, events));
+    }
+    return best;
+}
+
+int binned_planes_for(size_t n) {
+    return n < 512 ? 31 : n < 2048 ? 63 : n < 8192 ? 127 : max_planes;
+}
 
 SplitChoice find_binned_split(std::span<const TriBox> items, const Bbox3f& box,
                               const KdBuildConfig& config) {
     SplitChoice best;
-    AxisPlanes axes[3];
-    for (int a = 0; a < 3; ++a)
-        if (!axes[a].init(box.lo[a], box.hi[a])) return best;
-
-    const Bins bins = tbb::parallel_reduce(
-        tbb::blocked_range<size_t>(0, items.size(), 4096), Bins{},
-        [&](const tbb::blocked_range<size_t>& r, Bins b) {
-            for (size_t i = r.begin(); i < r.end(); ++i)
-                for (int a = 0; a < 3; ++a) {
-                    const float lo = items[i].box.lo[a], hi = items[i].box.hi[a];
-                    const int k_lo = axes[a].count_below(lo, false);
-                    ++b.lo[a][k_lo];
-                    ++b.hi[a][axes[a].count_below(hi, true)];
-                    if (lo == hi && k_lo > 0 && axes[a].pos[k_lo] == lo) ++b.flat[a][k_lo];
-                }
-            return b;
-        },
-        [](Bins x, const Bins& y) {
-            x.add(y);
-            return x;
-        });
-
     const size_t n = items.size();
+    EventList events;
+    events.reserve(64);
+    const int planes = binned_planes_for(n);
+    AxisPlanes axes[3];
+    bool binned = true;
+    for (int a = 0; a < 3; ++a) binned &= axes[a].init(box.lo[a], box.hi[a], planes);
+    if (!binned) return find_exact_split(items, box, config);  // too thin for the planes
+
+    Bins bins(planes);
+    if (n < 2 * grain) {
+        count(items, axes, bins);
+    } else {
+        bins = tbb::parallel_reduce(
+            tbb::blocked_range<size_t>(0, n, grain), Bins(planes),
+            [&](const tbb::blocked_range<size_t>& r, Bins b) {
+                count(items.subspan(r.begin(), r.size()), axes, b);
+                return b;
+            },
+            [](Bins x, const Bins& y) {
+                x.add(y);
+                return x;
+            });
+    }
+
     for (int a = 0; a < 3; ++a) {
         const AxisCost cost(a, box, n, config);
         if (!cost.has_area()) return best;
+        const uint32_t *lo_bins = bins.at(a, 0), *hi_bins = bins.at(a, 1), *flat = bins.at(a, 2);
+        SplitChoice axis_best;
+        int k_best = 0;
         size_t below = 0, above = n;  // #{lo < b_k}, #{hi > b_k}
         for (int k = 1; k <= planes; ++k) {
-            below += bins.lo[a][k - 1];
-            above -= bins.hi[a][k - 1];
+            below += lo_bins[k - 1];
+            above -= hi_bins[k - 1];
             const float p = axes[a].pos[k];
-            const size_t planar = bins.flat[a][k];
+            const size_t planar = flat[k];
             // The sweep's counts at p: flat triangles in p are on neither side yet.
             const auto consider = [&](size_t cl, size_t cr, bool planar_left) {
                 const double c = cost(p, cl, cr);
-                if (c < best.cost) best = {a, p, planar_left, c, cl, cr};
+                if (c < axis_best.cost) {
+                    axis_best = {a, p, planar_left, c, cl, cr};
+                    k_best = k;
+                }
             };
             consider(below + planar, above, true);
             if (planar > 0) consider(below, above + planar, false);
         }
+        if (axis_best.axis >= 0) {
+            // The exact planes between the binned planes around the best one.
+            const SplitChoice near = sweep_between(items, a, axes[a].pos[k_best - 1],
+                                                   axes[a].pos[k_best + 1], cost, events);
+            axis_best = first_cheapest(axis_best, near);
+        }
+        best = better(best, axis_best);
     }
     return best;
 }

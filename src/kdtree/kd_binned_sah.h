@@ -1,7 +1,8 @@
-// The SAH split search of the top levels: K planes per axis, evenly spaced in the node, with
-// exact triangle counts (Shevtsov, Soupikov and Kapustin 2007, "Highly parallel fast kd-tree
-// construction for interactive ray tracing of dynamic scenes"). One pass over the node's
-// triangles, in parallel over all cores, and no sorted event lists to keep.
+// The SAH split search above the small nodes: binned, then refined to the exact planes near the
+// best bin (Shevtsov, Soupikov and Kapustin 2007, "Highly parallel fast kd-tree construction for
+// interactive ray tracing of dynamic scenes"; refinement as in Hunt, Mark and Stoll 2006).
+// One counting pass over the node's triangles, in parallel over all cores in large nodes, and
+// no sorted event lists to keep from node to node.
 #pragma once
 
 #include <span>
@@ -12,15 +13,21 @@
 
 namespace rtt::kd {
 
-/// Planes per axis. The SAH cost of a plane between two bins' is exact; only the choice of
-/// planes is coarser than the sweep's, which takes over below the top levels.
-inline constexpr int binned_planes = 255;
+/// Planes per axis of the bins for a node of n triangles: a few per triangle, since the
+/// refinement, not the bins, places the plane; more in large nodes, where a wrong bin costs more.
+int binned_planes_for(size_t n);
 
-/// Cheapest split of the node `box` holding `items` among the binned planes of the three
-/// axes, costed as find_split costs them (same counts, planar triangles on either side). Ties go
-/// to the lower axis, then the lower plane. axis = -1 when the box is too thin for the planes
-/// or no plane makes progress.
+/// Cheapest split of the node `box` holding `items`, costed as the sweep costs it (exact counts,
+/// planar triangles on either side): per axis, the cheapest of the binned planes and of every
+/// triangle bound between the planes around it; ties to the lower axis, then the lower plane.
+/// When the box is too thin for the planes, every triangle bound is tried (find_exact_split).
+/// axis = -1 when no plane makes progress.
 SplitChoice find_binned_split(std::span<const TriBox> items, const Bbox3f& box,
                               const KdBuildConfig& config);
+
+/// The sweep's choice over every triangle bound (sorting them once): for a node whose binned
+/// choice is not worth taking, where a plane away from the best bin may still be.
+SplitChoice find_exact_split(std::span<const TriBox> items, const Bbox3f& box,
+                             const KdBuildConfig& config);
 
 }  // namespace rtt::kd

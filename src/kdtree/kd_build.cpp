@@ -1,17 +1,16 @@
-// The kd-tree build: binned SAH from the root down over all cores, the exact Wald–Havran sweep
-// with perfect splits below (Shevtsov, Soupikov and Kapustin 2007; Wald and Havran 2006).
+// The kd-tree build: binned SAH from the root down over all cores, refined to exact planes
+// near the best bin, with perfect splits (Shevtsov, Soupikov and Kapustin 2007; Wald and Havran
+// 2006), and the small nodes' exact search below (kd_small_build.cpp).
 //
-// A node of more than sweep_min_triangles triangles holds its triangles with the bounds of
-// their part inside it (kd::TriBox) and picks its plane among kd::binned_planes per axis
-// (kd_binned_sah.cpp): one parallel pass, no sorted event lists to keep up. Its triangles are
-// split in parallel, straddlers clipped to each child (perfect splits, as below). Smaller
-// nodes are handed to the sweep (kd_sweep_build.cpp), which sorts their events once and
-// places its planes exactly; so does a top node whose planes find no split worth taking,
-// since the sweep may still find one the bins miss, or makes the leaf.
+// A node of more than small_max_triangles triangles holds its triangles with the bounds of their
+// part inside it (kd::TriBox) and picks its plane with kd::find_binned_split: one counting pass,
+// no sorted event lists to keep from node to node. Its triangles are split in parallel,
+// straddlers clipped to each child (perfect splits). A small node builds its whole subtree at
+// once with kd::SmallBuilder, which picks exactly the sweep's planes.
 //
-// The tree does not depend on the thread count: bins hold integer counts, the sweep sorts its
-// events in a total order, leaf lists are sorted, and subtrees are concatenated in one fixed
-// order (below child first).
+// The tree does not depend on the thread count: bins hold integer counts, every choice is made
+// from the node's own triangles whatever their order, leaf lists are sorted, and subtrees are
+// concatenated in one fixed order (below child first).
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
@@ -28,8 +27,8 @@
 #include "kdtree/kd_clip.h"
 #include "kdtree/kd_events.h"
 #include "kdtree/kd_sah.h"
+#include "kdtree/kd_small_build.h"
 #include "kdtree/kd_subtree.h"
-#include "kdtree/kd_sweep_build.h"
 #include "rtt/error.h"
 #include "rtt/kdtree.h"
 #include "rtt/memory_budget.h"
@@ -49,23 +48,16 @@ using kd::TriBox;
 /// share of this budget (tests/limits_test.cpp).
 constexpr double reference_budget = 32.0;
 
-/// Nodes with more triangles split on binned planes. Below, the sweep's exact planes are worth
-/// their cost: the SAH cost of the tree stays within 1 % of an all-sweep build
-/// (docs/benchmarks.md, "kd-tree build").
-constexpr size_t sweep_min_triangles = 8192;
-
-/// Triangles per task when a top node bins or splits its triangles.
+/// Triangles per task when a node splits its triangles.
 constexpr size_t grain = 4096;
 
-/// The binned top levels: inner nodes down to the subtrees the sweep builds.
+/// Nodes with at least this many triangles build their children in parallel.
+constexpr size_t parallel_min_triangles = 1024;
+
+/// The binned levels: inner nodes down to the leaves and small subtrees below them.
 struct TopNode {
-    SplitChoice split;  ///< axis < 0: a sweep subtree
+    SplitChoice split;  ///< axis < 0: `built` holds the subtree (a leaf or a small subtree)
     std::unique_ptr<TopNode> below, above;
-    // A sweep subtree: its node's box and triangles, then the subtree built from them.
-    std::vector<TriBox> items;
-    Bbox3f box;
-    int depth = 0;
-    double budget = 0;
     Subtree built;
 };
 
@@ -74,20 +66,30 @@ public:
     TopBuilder(std::span<const TriangleVerts> triangles, const KdBuildConfig& config, int max_depth)
         : triangles_(triangles), config_(config), max_depth_(max_depth) {}
 
-    /// The top levels over the node `box` holding `items` (consumed), in parallel.
+    /// The tree over the node `box` holding `items` (consumed), in parallel.
     std::unique_ptr<TopNode> build(std::vector<TriBox>&& items, const Bbox3f& box, int depth,
                                    double budget) const {
         auto node = std::make_unique<TopNode>();
         const size_t n = items.size();
-        if (n > sweep_min_triangles && n > size_t(config_.max_leaf_size) && depth < max_depth_)
+        if (n <= kd::small_max_triangles) {
+            kd::SmallBuilder(triangles_, config_, max_depth_)
+                .build(items, box, depth, budget, node->built);
+            // Held until the layout copies it: without the growth slack, or the build's peak
+            // memory would exceed the tree's by up to 2x.
+            node->built.nodes.shrink_to_fit();
+            node->built.leaf_triangles.shrink_to_fit();
+            return node;
+        }
+        if (n > size_t(config_.max_leaf_size) && depth < max_depth_) {
             node->split = kd::find_binned_split(items, box, config_);
-        // Without a split worth taking the sweep decides: it may find a plane the bins miss.
+            // The bins only refine around their best plane; a plane elsewhere may still do.
+            if (!kd::takes_split(node->split, n, budget, config_))
+                node->split = kd::find_exact_split(items, box, config_);
+        }
         if (!kd::takes_split(node->split, n, budget, config_)) {
             node->split = {};
-            node->items = std::move(items);
-            node->box = box;
-            node->depth = depth;
-            node->budget = budget;
+            for (const TriBox& t : items) node->built.leaf_triangles.push_back(t.tri);
+            node->built.add_leaf(0);
             return node;
         }
         const SplitChoice& split = node->split;
@@ -95,35 +97,39 @@ public:
         left_box.hi[split.axis] = split.pos;
         right_box.lo[split.axis] = split.pos;
         std::vector<TriBox> left, right;
-        partition(items, split, left_box, right_box, left, right);
-        std::vector<TriBox>().swap(items);  // release now, not when the children return
-        tbb::parallel_invoke(
-            [&] {
-                node->below = build(std::move(left), left_box, depth + 1,
-                                    kd::child_budget(budget, split, true));
-            },
-            [&] {
-                node->above = build(std::move(right), right_box, depth + 1,
-                                    kd::child_budget(budget, split, false));
-            });
+        partition(std::move(items), split, box, left, right);
+        const auto build_below = [&] {
+            node->below =
+                build(std::move(left), left_box, depth + 1, kd::child_budget(budget, split, true));
+        };
+        const auto build_above = [&] {
+            node->above = build(std::move(right), right_box, depth + 1,
+                                kd::child_budget(budget, split, false));
+        };
+        if (n >= parallel_min_triangles) {
+            tbb::parallel_invoke(build_below, build_above);
+        } else {
+            build_below();
+            build_above();
+        }
         return node;
     }
 
 private:
-    /// The children's triangles, with the sweep's rule (kd_sweep_build.cpp): a triangle that
-    /// only touches the plane goes to the side it lies on, one lying in it to the side the SAH
-    /// picked, and one crossing it is clipped to each child (perfect splits).
-    void partition(const std::vector<TriBox>& items, const SplitChoice& split,
-                   const Bbox3f& left_box, const Bbox3f& right_box, std::vector<TriBox>& left,
-                   std::vector<TriBox>& right) const {
-        const int a = split.axis;
-        const float p = split.pos;
-        const size_t chunks = (items.size() + grain - 1) / grain;
-        std::vector<std::vector<TriBox>> lefts(chunks), rights(chunks);
-        tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
-            std::vector<TriBox>&l = lefts[c], &r = rights[c];
-            Bbox3f b;
-            for (size_t i = c * grain; i < std::min(items.size(), (c + 1) * grain); ++i) {
+    /// The children's triangles: a triangle that only touches the plane goes to the side it lies
+    /// on, one lying in it to the side the SAH picked (pside), and one crossing it is clipped to
+    /// each child (perfect splits). Every point of a triangle stays in some leaf that lists it,
+    /// and every leaf whose interior the triangle meets lists it (trace/trace_ray.h relies on it).
+    /// Consumes `items`, released as soon as they are read: the build's peak memory is the
+    /// largest node's triangles about twice, not three times.
+    void partition(std::vector<TriBox>&& items, const SplitChoice& split, const Bbox3f& box,
+                   std::vector<TriBox>& left, std::vector<TriBox>& right) const {
+        const size_t n = items.size();
+        const auto part = [&](size_t begin, size_t end, std::vector<TriBox>& l,
+                              std::vector<TriBox>& r) {
+            const int a = split.axis;
+            const float p = split.pos;
+            for (size_t i = begin; i < end; ++i) {
                 const TriBox& t = items[i];
                 const float lo = t.box.lo[a], hi = t.box.hi[a];
                 if (lo == hi) {
@@ -133,20 +139,38 @@ private:
                 } else if (lo >= p) {
                     r.push_back(t);
                 } else {
-                    if (clip_triangle_to_box(triangles_[t.tri], left_box, b)) l.push_back({b, t.tri});
-                    if (clip_triangle_to_box(triangles_[t.tri], right_box, b)) r.push_back({b, t.tri});
+                    const ClippedSides c = clip_triangle_to_children(triangles_[t.tri], box, a, p);
+                    if (c.left) l.push_back({c.left_box, t.tri});
+                    if (c.right) r.push_back({c.right_box, t.tri});
                 }
             }
+        };
+        if (n <= grain) {
+            left.reserve(split.left_count);
+            right.reserve(split.right_count);
+            part(0, n, left, right);
+            std::vector<TriBox>().swap(items);
+            return;
+        }
+        const size_t chunks = (n + grain - 1) / grain;
+        std::vector<std::vector<TriBox>> lefts(chunks), rights(chunks);
+        tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+            part(c * grain, std::min(n, (c + 1) * grain), lefts[c], rights[c]);
         });
+        std::vector<TriBox>().swap(items);
         concatenate(lefts, left);
         concatenate(rights, right);
     }
 
-    static void concatenate(const std::vector<std::vector<TriBox>>& parts, std::vector<TriBox>& all) {
+    /// Appends the parts in order, releasing each once copied.
+    static void concatenate(std::vector<std::vector<TriBox>>& parts, std::vector<TriBox>& all) {
         size_t total = 0;
         for (const auto& part : parts) total += part.size();
         all.reserve(total);
-        for (const auto& part : parts) all.insert(all.end(), part.begin(), part.end());
+        for (auto& part : parts) {
+            all.insert(all.end(), part.begin(), part.end());
+            std::vector<TriBox>().swap(part);
+        }
     }
 
     std::span<const TriangleVerts> triangles_;
@@ -154,19 +178,10 @@ private:
     int max_depth_;
 };
 
-/// The sweep subtrees under `node`, below child first.
-void collect_subtrees(TopNode& node, std::vector<TopNode*>& out) {
-    if (node.split.axis < 0) {
-        out.push_back(&node);
-        return;
-    }
-    collect_subtrees(*node.below, out);
-    collect_subtrees(*node.above, out);
-}
-
-/// Lays the tree out in one array in depth-first order, below child first: the top's inner
-/// nodes at their places, each sweep subtree copied once (in parallel) and rebased.
-void lay_out(TopNode& root, KdTree& tree) {
+/// Lays the tree out in one array in depth-first order, below child first: the binned inner
+/// nodes at their places, each subtree below them copied once (in parallel) and rebased.
+/// Returns the number of those subtrees.
+size_t lay_out(TopNode& root, KdTree& tree) {
     struct Placed {
         Subtree* subtree;
         size_t node_base, leaf_base;
@@ -184,7 +199,8 @@ void lay_out(TopNode& root, KdTree& tree) {
         const size_t index = nodes++;
         self(self, *node.below);
         KdNode n;
-        if (nodes > KdNode::max_index || !n.set_inner(node.split.axis, node.split.pos, uint32_t(nodes)))
+        if (nodes > KdNode::max_index ||
+            !n.set_inner(node.split.axis, node.split.pos, uint32_t(nodes)))
             kd::too_large("more than 2^30 nodes");
         inner.emplace_back(index, n);
         self(self, *node.above);
@@ -205,6 +221,7 @@ void lay_out(TopNode& root, KdTree& tree) {
                   tree.leaf_triangles.begin() + std::ptrdiff_t(p.leaf_base));
         *p.subtree = Subtree{};
     });
+    return placed.size();
 }
 
 /// Checks what the build relies on (indices in range, finite coordinates, index fits 30 bits).
@@ -242,37 +259,21 @@ KdTree build_kdtree(const Scene& scene, const KdBuildConfig& config) {
 
     KdTree tree;
     std::vector<TriBox> items(n);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t i = r.begin(); i < r.end(); ++i) items[i] = {triangle_bounds(triangles[i]), uint32_t(i)};
-    });
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                          for (size_t i = r.begin(); i < r.end(); ++i)
+                              items[i] = {triangle_bounds(triangles[i]), uint32_t(i)};
+                      });
     for (const TriBox& t : items) tree.bounds.extend(t.box);
     const auto setup_done = Clock::now();
 
     const int max_depth = config.max_depth > 0 ? config.max_depth : auto_max_depth(n);
-    const std::unique_ptr<TopNode> top = TopBuilder(triangles, config, max_depth)
-                                             .build(std::move(items), tree.bounds, 0,
-                                                    reference_budget * double(n));
-    std::vector<TopNode*> subtrees;
-    collect_subtrees(*top, subtrees);
-    const auto top_done = Clock::now();
+    const std::unique_ptr<TopNode> top =
+        TopBuilder(triangles, config, max_depth)
+            .build(std::move(items), tree.bounds, 0, reference_budget * double(n));
+    const auto tree_done = Clock::now();
 
-    // Largest first, so that no big subtree starts last (most hold at most sweep_min_triangles;
-    // a big one is a node the bins found no split for).
-    std::stable_sort(subtrees.begin(), subtrees.end(), [](const TopNode* a, const TopNode* b) {
-        return a->items.size() > b->items.size();
-    });
-    kd::SweepBuilder sweep(triangles, config, max_depth);
-    tbb::parallel_for(
-        size_t(0), subtrees.size(),
-        [&](size_t i) {
-            TopNode& t = *subtrees[i];
-            sweep.build(t.items, t.box, t.depth, t.budget, t.built);
-            std::vector<TriBox>().swap(t.items);
-        },
-        tbb::simple_partitioner());
-    const auto sweep_done = Clock::now();
-
-    lay_out(*top, tree);
+    const size_t subtrees = lay_out(*top, tree);
     const auto end = Clock::now();
     const double seconds = std::chrono::duration<double>(end - start).count();
 
@@ -280,11 +281,10 @@ KdTree build_kdtree(const Scene& scene, const KdBuildConfig& config) {
     tree.stats.triangles = n;
     tree.stats.build_seconds = seconds;
     tree.stats.setup_seconds = std::chrono::duration<double>(setup_done - start).count();
-    tree.stats.top_seconds = std::chrono::duration<double>(top_done - setup_done).count();
-    tree.stats.sweep_seconds = std::chrono::duration<double>(sweep_done - top_done).count();
-    tree.stats.layout_seconds = std::chrono::duration<double>(end - sweep_done).count();
-    tree.stats.top_nodes = subtrees.size() - 1;  // a binary tree's inner nodes
-    tree.stats.sweep_subtrees = subtrees.size();
+    tree.stats.tree_seconds = std::chrono::duration<double>(tree_done - setup_done).count();
+    tree.stats.layout_seconds = std::chrono::duration<double>(end - tree_done).count();
+    tree.stats.small_subtrees = subtrees;
+    tree.stats.binned_nodes = subtrees - 1;  // a binary tree's inner nodes
     return tree;
 }
 

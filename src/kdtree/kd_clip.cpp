@@ -62,48 +62,50 @@ float round_up(double x) {
     return f;
 }
 
-}  // namespace
+/// A triangle as a polygon in double, clipped to planes moved outward by e.
+struct Polygon {
+    Vec3d v[2][max_vertices];
+    int n = 3, cur = 0;
 
-bool clip_triangle_to_box(const TriangleVerts& tri, const Bbox3f& box, Bbox3f& out) {
-    const Bbox3f tb = triangle_bounds(tri);
-    const Bbox3f exact{max(tb.lo, box.lo), min(tb.hi, box.hi)};  // bounds(T) ∩ box
-    if (exact.empty()) return false;
-    bool inside = true;
-    for (int a = 0; a < 3; ++a) inside &= tb.lo[a] >= box.lo[a] && tb.hi[a] <= box.hi[a];
-    if (inside) {
-        out = tb;
-        return true;
+    explicit Polygon(const TriangleVerts& tri) {
+        const Vec3f* p[3] = {&tri.v0, &tri.v1, &tri.v2};
+        for (int i = 0; i < 3; ++i)
+            for (int a = 0; a < 3; ++a) v[0][i].c[a] = (*p[i])[a];
     }
+    const Vec3d* vertices() const { return v[cur]; }
+    /// Keeps sign * (x[axis] - plane) >= 0; past half the buffer, stops clipping (conservative).
+    void clip(int axis, double plane, double sign) {
+        if (n == 0 || n > max_vertices / 2) return;
+        n = clip_polygon(v[cur], n, v[1 - cur], axis, plane, sign);
+        cur = 1 - cur;
+    }
+    /// Clips to the planes of `box` (moved out by e) that the triangle's bounds `tb` cross.
+    void clip_to(const Bbox3f& box, const Bbox3f& tb, double e) {
+        for (int a = 0; a < 3; ++a) {
+            if (tb.lo[a] < box.lo[a]) clip(a, double(box.lo[a]) - e, 1.0);
+            if (tb.hi[a] > box.hi[a]) clip(a, double(box.hi[a]) + e, -1.0);
+        }
+    }
+};
 
-    double magnitude = 0.0;
+/// e: far above every double rounding error of clipping coordinates of this magnitude.
+double margin(const Bbox3f& tb, const Bbox3f& box) {
+    float magnitude = 0.f;  // the max of floats is exact in float
     for (int a = 0; a < 3; ++a)
-        magnitude = std::max({magnitude, double(std::fabs(tb.lo[a])), double(std::fabs(tb.hi[a])),
-                              double(std::fabs(box.lo[a])), double(std::fabs(box.hi[a]))});
-    const double e = std::ldexp(magnitude, -36);
+        magnitude = std::max({magnitude, std::fabs(tb.lo[a]), std::fabs(tb.hi[a]),
+                              std::fabs(box.lo[a]), std::fabs(box.hi[a])});
+    return double(magnitude) * 0x1p-36;  // exact, as ldexp, without the call
+}
 
-    Vec3d buf[2][max_vertices];
-    int n = 3;
-    const Vec3f* v[3] = {&tri.v0, &tri.v1, &tri.v2};
-    for (int i = 0; i < 3; ++i)
-        for (int a = 0; a < 3; ++a) buf[0][i].c[a] = (*v[i])[a];
-    int cur = 0;
-    for (int a = 0; a < 3 && n > 0; ++a) {
-        if (tb.lo[a] < box.lo[a] && n <= max_vertices / 2) {
-            n = clip_polygon(buf[cur], n, buf[1 - cur], a, double(box.lo[a]) - e, 1.0);
-            cur = 1 - cur;
-        }
-        if (tb.hi[a] > box.hi[a] && n > 0 && n <= max_vertices / 2) {
-            n = clip_polygon(buf[cur], n, buf[1 - cur], a, double(box.hi[a]) + e, -1.0);
-            cur = 1 - cur;
-        }
-    }
-    if (n == 0) return false;
-
+/// Bounds of the clipped polygon `v` (n > 0), widened by e, rounded outward and intersected
+/// with the exact bounds(T) ∩ box.
+Bbox3f polygon_bounds(const Vec3d* v, int n, double e, const Bbox3f& exact) {
+    Bbox3f out;
     for (int a = 0; a < 3; ++a) {
-        double lo = buf[cur][0].c[a], hi = lo;
+        double lo = v[0].c[a], hi = lo;
         for (int i = 1; i < n; ++i) {
-            lo = std::min(lo, buf[cur][i].c[a]);
-            hi = std::max(hi, buf[cur][i].c[a]);
+            lo = std::min(lo, v[i].c[a]);
+            hi = std::max(hi, v[i].c[a]);
         }
         const float flo = std::max(round_down(lo - e), exact.lo[a]);
         const float fhi = std::min(round_up(hi + e), exact.hi[a]);
@@ -111,7 +113,65 @@ bool clip_triangle_to_box(const TriangleVerts& tri, const Bbox3f& box, Bbox3f& o
         out.lo[a] = flo <= fhi ? flo : exact.lo[a];
         out.hi[a] = flo <= fhi ? fhi : exact.hi[a];
     }
+    return out;
+}
+
+bool inside(const Bbox3f& tb, const Bbox3f& box) {
+    bool in = true;
+    for (int a = 0; a < 3; ++a) in &= tb.lo[a] >= box.lo[a] && tb.hi[a] <= box.hi[a];
+    return in;
+}
+
+}  // namespace
+
+bool clip_triangle_to_box(const TriangleVerts& tri, const Bbox3f& box, Bbox3f& out) {
+    const Bbox3f tb = triangle_bounds(tri);
+    const Bbox3f exact{max(tb.lo, box.lo), min(tb.hi, box.hi)};  // bounds(T) ∩ box
+    if (exact.empty()) return false;
+    if (inside(tb, box)) {
+        out = tb;
+        return true;
+    }
+    const double e = margin(tb, box);
+    Polygon poly(tri);
+    poly.clip_to(box, tb, e);
+    if (poly.n == 0) return false;
+    out = polygon_bounds(poly.vertices(), poly.n, e, exact);
     return true;
+}
+
+ClippedSides clip_triangle_to_children(const TriangleVerts& tri, const Bbox3f& box, int axis,
+                                       float pos) {
+    ClippedSides sides;
+    Bbox3f left_box = box, right_box = box;
+    left_box.hi[axis] = pos;
+    right_box.lo[axis] = pos;
+    const Bbox3f tb = triangle_bounds(tri);
+    const Bbox3f exact_left{max(tb.lo, left_box.lo), min(tb.hi, left_box.hi)};
+    const Bbox3f exact_right{max(tb.lo, right_box.lo), min(tb.hi, right_box.hi)};
+    const double e = margin(tb, box);
+    Polygon poly(tri);
+    if (!inside(tb, box)) poly.clip_to(box, tb, e);
+    if (poly.n == 0) return sides;
+    // Each side from the polygon clipped to the box: the clipping to the box's own planes is
+    // done once for both.
+    Vec3d side[max_vertices];
+    const auto clip_side = [&](bool crosses, double plane, double sign, const Bbox3f& exact,
+                               Bbox3f& out) {
+        if (exact.empty()) return false;
+        const Vec3d* v = poly.vertices();
+        int n = poly.n;
+        if (crosses && n <= max_vertices / 2) {
+            n = clip_polygon(v, n, side, axis, plane, sign);
+            v = side;
+        }
+        if (n == 0) return false;
+        out = polygon_bounds(v, n, e, exact);
+        return true;
+    };
+    sides.left = clip_side(tb.hi[axis] > pos, double(pos) + e, -1.0, exact_left, sides.left_box);
+    sides.right = clip_side(tb.lo[axis] < pos, double(pos) - e, 1.0, exact_right, sides.right_box);
+    return sides;
 }
 
 }  // namespace rtt

@@ -18,6 +18,18 @@ namespace rtt {
 /// axis-aligned triangle keeps a flat box.
 bool clip_triangle_to_box(const TriangleVerts& tri, const Bbox3f& box, Bbox3f& out);
 
+/// What clip_triangle_to_children returns: for each child, whether T meets it, and the bounds.
+struct ClippedSides {
+    bool left = false, right = false;
+    Bbox3f left_box, right_box;
+};
+
+/// clip_triangle_to_box for both children of `box` split at `pos` along `axis` (below child
+/// "left"), with the same guarantees; T is clipped to `box` once, then to each side of the
+/// plane, which is what a split costs most of the time.
+ClippedSides clip_triangle_to_children(const TriangleVerts& tri, const Bbox3f& box, int axis,
+                                       float pos);
+
 /// Bounds of the triangle's three vertices (exact).
 inline Bbox3f triangle_bounds(const TriangleVerts& tri) {
     Bbox3f b;

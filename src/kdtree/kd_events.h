@@ -8,9 +8,7 @@
 // deterministic whatever sorting algorithm or thread count produced it.
 #pragma once
 
-#include <array>
 #include <cstdint>
-#include <span>
 #include <vector>
 
 #include "rtt/math.h"
@@ -35,31 +33,11 @@ static_assert(sizeof(Event) == 8);
 
 using EventList = std::vector<Event>;
 
-/// Appends the events of a triangle whose bounds along the axis are [lo, hi] (unsorted).
-inline void append_events(EventList& list, float lo, float hi, uint32_t tri) {
-    if (lo == hi) {
-        list.emplace_back(lo, EventType::planar, tri);
-    } else {
-        list.emplace_back(lo, EventType::start, tri);
-        list.emplace_back(hi, EventType::end, tri);
-    }
-}
-
-/// A triangle of a node with the bounds of its part inside the node (the binned top levels
-/// carry these instead of events).
+/// A triangle of a node with the bounds of its part inside the node: what every node of the
+/// build holds; events are made from these only where a sweep needs them.
 struct TriBox {
     Bbox3f box;
     uint32_t tri;
 };
-
-/// The three per-axis event lists of one node.
-struct NodeEvents {
-    std::array<EventList, 3> axis;
-    /// Number of triangles in the node (each has exactly one start or planar event per axis).
-    size_t triangles = 0;
-};
-
-/// The sorted event lists of the triangles `items`.
-NodeEvents events_of(std::span<const TriBox> items);
 
 }  // namespace rtt::kd

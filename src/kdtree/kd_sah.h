@@ -1,4 +1,6 @@
-// The SAH split search of the Wald–Havran build: one sweep over each axis's sorted events.
+// The SAH cost of kd-tree splits and the rules for taking one (kd_binned_sah.cpp and
+// kd_small_build.cpp search the planes). A split that would give a child equal to the node
+// (same box, all its triangles) costs infinity, so every split taken makes progress.
 #pragma once
 
 #include <span>
@@ -55,19 +57,6 @@ private:
     double trav_, isect_, bonus_factor_, lo_, hi_;
     double area_, inv_area_, cap_, perimeter_;
 };
-
-/// Cheapest split of the node with bounds `box` and events `ev` (Wald & Havran 2006,
-/// Algorithm 4): cost = lambda * (trav + isect * (P_L n_L + P_R n_R)), P = area ratio to the
-/// node, lambda = 1 - empty_bonus when one side is empty. Triangles lying in the plane are tried
-/// on both sides. A split that would give a child equal to the node (same box, all its
-/// triangles) is never returned, so every split makes progress. Compare the result with the
-/// leaf cost isect * n.
-SplitChoice find_split(const NodeEvents& ev, const Bbox3f& box, const KdBuildConfig& config);
-
-/// The same sweep over one axis's sorted events only (`triangles` in the node); the best of
-/// the three axes, taken in axis order with ties to the lower axis, is find_split's answer.
-SplitChoice find_split_on_axis(int axis, std::span<const Event> events, size_t triangles,
-                               const Bbox3f& box, const KdBuildConfig& config);
 
 /// The better of two choices, ties to `a` (the lower axis).
 inline const SplitChoice& better(const SplitChoice& a, const SplitChoice& b) {
