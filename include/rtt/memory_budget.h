@@ -21,8 +21,8 @@ uint64_t memory_budget();
 void require_memory(uint64_t bytes, const std::string& what);
 
 /// Estimated peak bytes of a scene with this many vertices and triangles once its kd-tree and a
-/// tracer are built: the scene arrays, the gathered triangles and the Wald-Havran event lists of
-/// the build (parent and children alive together), nodes and leaf lists.
+/// tracer are built: the scene arrays, the gathered triangles, the build's per-node triangle
+/// lists and bounds (parent and children alive together), nodes and leaf lists.
 uint64_t scene_memory_bytes(uint64_t vertices, uint64_t triangles);
 
 /// a * b + c, saturating at UINT64_MAX instead of wrapping (counts come from files).
