@@ -119,8 +119,11 @@ TYPED_TEST(Simd, FloatComparisonsFollowCpp) {
         const uint32_t lt = movemask(x < y), le = movemask(x <= y), gt = movemask(x > y);
         const uint32_t ge = movemask(x >= y), eq = movemask(x == y), ne = movemask(x != y);
         const uint32_t nan = movemask(isnan(x)), sign = signbits(x);
+        const uint32_t m = uint32_t(base * 2654435761u) & all_lanes<K>;  // some lanes masked off
+        const uint32_t ng = movemask(not_greater(vbool<K>::from_bits(m), x, y));
         for (int i = 0; i < K; ++i) {
             const float s = a[base + i], t = b[base + i];
+            mismatches += ((ng >> i) & 1) != uint32_t(((m >> i) & 1) && !(s > t));
             mismatches += ((lt >> i) & 1) != uint32_t(s < t);
             mismatches += ((le >> i) & 1) != uint32_t(s <= t);
             mismatches += ((gt >> i) & 1) != uint32_t(s > t);
@@ -417,7 +420,13 @@ TYPED_TEST(PacketTriangle, EveryLaneAnswersLikeTheScalarTest) {
         vfloat<K> t;
         const uint32_t hit =
             movemask(intersect_watertight<K>(q, vbool<K>::from_bits(active), tri, t));
+        // The form without the early exit (packet leaves) gives the same lanes and t.
+        vfloat<K> t_full;
+        const uint32_t hit_full =
+            movemask(intersect_watertight<K, false>(q, vbool<K>::from_bits(active), tri, t_full));
+        mismatches += hit_full != hit;
         for (int i = 0; i < K; ++i) {
+            if ((hit >> i) & 1) mismatches += !same_bits(t[i], t_full[i]);
             if (!((active >> i) & 1)) {
                 mismatches += (hit >> i) & 1;
                 continue;

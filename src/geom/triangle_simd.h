@@ -109,7 +109,9 @@ struct RelativeTriangle {
 
 /// intersect_watertight() from its first step's result `rel` (the rest of the test: shear, edge
 /// functions, t), for callers that get `rel` without the subtractions (a common origin).
-template <int K>
+/// EarlyOut: return as soon as no lane's edge functions agree (a branch per triangle); without
+/// it t is computed for every lane (no branch: for callers that mostly hit or cannot predict).
+template <int K, bool EarlyOut = true>
 RTT_FORCEINLINE vbool<K> intersect_watertight_relative(const WatertightPacket<K>& r,
                                                        vbool<K> active,
                                                        const RelativeTriangle<K>& rel,
@@ -128,7 +130,9 @@ RTT_FORCEINLINE vbool<K> intersect_watertight_relative(const WatertightPacket<K>
     const vbool<K> some_neg = (u < zero) | (v < zero) | (w < zero);
     const vbool<K> some_pos = (u > zero) | (v > zero) | (w > zero);
     vbool<K> hit = andnot(active, some_neg & some_pos);
-    if (none(hit)) return hit;
+    if constexpr (EarlyOut) {
+        if (none(hit)) return hit;
+    }
     const vf det = (u + v) + w;
     hit &= det != zero;
     const vf az = r.sz * rel.a_kz;
@@ -141,7 +145,7 @@ RTT_FORCEINLINE vbool<K> intersect_watertight_relative(const WatertightPacket<K>
 /// Lanes of `active` whose ray hits `tri` at t in [tmin, tmax] (inclusive, per lane); `t` is
 /// set for those lanes (other lanes: unspecified). Lane i answers exactly like
 /// intersect_watertight(WatertightRay(ray_i), tri, t).
-template <int K>
+template <int K, bool EarlyOut = true>
 RTT_FORCEINLINE vbool<K> intersect_watertight(const WatertightPacket<K>& r, vbool<K> active,
                                               const TriangleVerts& tri, vfloat<K>& t) {
     using vf = vfloat<K>;
@@ -174,7 +178,7 @@ RTT_FORCEINLINE vbool<K> intersect_watertight(const WatertightPacket<K>& r, vboo
         c_ky = pick_axis<K>(c, y0, y1);
         c_kz = pick_axis<K>(c, z0, z1);
     }
-    return intersect_watertight_relative<K>(
+    return intersect_watertight_relative<K, EarlyOut>(
         r, active, RelativeTriangle<K>{a_kx, a_ky, a_kz, b_kx, b_ky, b_kz, c_kx, c_ky, c_kz}, t);
 }
 

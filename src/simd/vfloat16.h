@@ -90,6 +90,11 @@ RTT_FORCEINLINE vbool16 operator==(vfloat16 a, vfloat16 b) {
 RTT_FORCEINLINE vbool16 operator!=(vfloat16 a, vfloat16 b) {
     return _mm512_cmp_ps_mask(a, b, _CMP_NEQ_UQ);
 }
+/// Lanes of `m` where !(a > b) (NaN included): andnot(m, a > b) as one masked compare, which
+/// keeps the mask in a mask register (the packet descent's branches test it directly).
+RTT_FORCEINLINE vbool16 not_greater(vbool16 m, vfloat16 a, vfloat16 b) {
+    return _mm512_mask_cmp_ps_mask(m, a, b, _CMP_NGT_UQ);
+}
 RTT_FORCEINLINE vbool16 isnan(vfloat16 a) {
     return _mm512_cmp_ps_mask(a, a, _CMP_UNORD_Q);
 }

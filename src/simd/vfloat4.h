@@ -83,6 +83,10 @@ RTT_FORCEINLINE vbool4 operator>(vfloat4 a, vfloat4 b) {
 RTT_FORCEINLINE vbool4 operator>=(vfloat4 a, vfloat4 b) {
     return _mm_cmpge_ps(a, b);
 }
+/// Lanes of `m` where !(a > b) (NaN included), as vfloat16.h's.
+RTT_FORCEINLINE vbool4 not_greater(vbool4 m, vfloat4 a, vfloat4 b) {
+    return andnot(m, a > b);
+}
 RTT_FORCEINLINE vbool4 operator==(vfloat4 a, vfloat4 b) {
     return _mm_cmpeq_ps(a, b);
 }

@@ -73,6 +73,10 @@ RTT_FORCEINLINE vbool8 operator>(vfloat8 a, vfloat8 b) {
 RTT_FORCEINLINE vbool8 operator>=(vfloat8 a, vfloat8 b) {
     return _mm256_cmp_ps(a, b, _CMP_GE_OQ);
 }
+/// Lanes of `m` where !(a > b) (NaN included), as vfloat16.h's.
+RTT_FORCEINLINE vbool8 not_greater(vbool8 m, vfloat8 a, vfloat8 b) {
+    return andnot(m, a > b);
+}
 RTT_FORCEINLINE vbool8 operator==(vfloat8 a, vfloat8 b) {
     return _mm256_cmp_ps(a, b, _CMP_EQ_OQ);
 }

@@ -1,6 +1,7 @@
 #include "trace/trace_packet.h"
 
 #include <bit>
+#include <utility>
 
 #include "geom/triangle_simd.h"
 #include "simd/simd.h"
@@ -140,7 +141,7 @@ RTT_FORCEINLINE TraversalResult<K, AnyHit> traverse_impl(const KdTree& tree,
         if constexpr (AnyHit) {
             active = andnot(active, result.occluded);
         } else {
-            active = andnot(active, ta > result.best.t);
+            active = not_greater(active, ta, result.best.t);
         }
         if (none(active)) continue;
         // The descent is bound by the latency of its pointer chain (node -> its bits -> next
@@ -159,10 +160,17 @@ RTT_FORCEINLINE TraversalResult<K, AnyHit> traverse_impl(const KdTree& tree,
             const KdNode* below = node + 1;
             const KdNode* above = nodes + n.above_child();
             // A branch, not a blend: it is predicted right (one sign per packet and axis), and
-            // it keeps the next node's address off the SIMD dependency chain.
+            // it keeps the next node's address off the SIMD dependency chain and, when it is
+            // `below`, off the node's load.
             const bool flip = (above_first >> axis) & 1u;
-            const KdNode* first = flip ? above : below;
-            const KdNode* second = flip ? below : above;
+            const KdNode* first = below;
+            const KdNode* second = above;
+            if (flip) {
+                // GCC turned selects into cmovs, which wait for the node's load; the empty asm
+                // keeps this a branch.
+                asm("" : "+r"(first), "+r"(second));
+                std::swap(first, second);
+            }
             const vf d = (vf(n.split) - orgv[axis]) * inv[axis];
             vf m = (abs(d) + t_scale) * margin;
             if constexpr (ZeroDir) m = select(dir_zero[axis], vf(0.f), m);
@@ -172,8 +180,9 @@ RTT_FORCEINLINE TraversalResult<K, AnyHit> traverse_impl(const KdTree& tree,
             // ta <= first_hi and second_lo <= tb, shortened: active lanes have ta <= tb (every
             // interval is entered only when non-empty), so ta <= min(tb, hi) is !(ta > hi),
             // NaN included; this keeps min/max off the path to the branch.
-            const vb visit_first = andnot(active, ta > hi);
-            const vb visit_second = andnot(active, lo > tb);
+            // Masked compares: at K = 16 the masks stay in mask registers for the branches.
+            const vb visit_first = not_greater(active, ta, hi);
+            const vb visit_second = not_greater(active, lo, tb);
             if (any(visit_first)) {
                 if (any(visit_second)) push(second, second_lo, tb, visit_second);
                 node = first;
@@ -190,15 +199,17 @@ RTT_FORCEINLINE TraversalResult<K, AnyHit> traverse_impl(const KdTree& tree,
         const KdNode& leaf = *node;
         const uint32_t* ids = leaf_ids + leaf.first_triangle();
         if constexpr (CollectStats) stats->leaves += 1;
-        for (uint32_t k = 0, count = leaf.triangle_count(); k < count; ++k) {
+        const uint32_t count = leaf.triangle_count();
+        for (uint32_t k = 0; k < count; ++k) {
             const uint32_t id = ids[k];
             if constexpr (CollectStats) {
                 stats->tests += 1;
                 stats->test_lanes += uint64_t(popcount(active));
             }
             vf t;
-            const vb hit = intersect_watertight<K>(wp, active, triangles[id], t);
-            if (none(hit)) continue;
+            // No early return: which triangles a coherent packet misses altogether is hard to
+            // predict, and a mispredicted exit costs more than the division it saves.
+            const vb hit = intersect_watertight<K, false>(wp, active, triangles[id], t);
             if constexpr (AnyHit) {
                 result.occluded |= hit;
                 active = andnot(active, hit);
