@@ -225,6 +225,9 @@ CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> trian
             if (--budget < 0) return CornerStatus::untraced;
             const KdNode& node = nodes[index];
             if (node.is_leaf()) break;
+            // The below child is the next node; the above one lies far away and is what misses
+            // (whether the walk takes it now or pops it later).
+            __builtin_prefetch(nodes + node.above_child());
             const int axis = node.axis();
             const bool entered = axis == 0   ? step.template operator()<0>(node)
                                  : axis == 1 ? step.template operator()<1>(node)
@@ -237,6 +240,13 @@ CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> trian
         if (index == invalid_triangle) continue;
         const KdNode& leaf = nodes[index];
         const uint32_t* ids = leaf_ids + leaf.first_triangle();
+        // Each vertex load waits on its id's load and on the previous triangle's branches:
+        // start them all before the first test.
+        for (uint32_t k = 0, count = leaf.triangle_count(); k < count; ++k) {
+            const char* p = reinterpret_cast<const char*>(&triangles[ids[k]]);
+            __builtin_prefetch(p);
+            __builtin_prefetch(p + sizeof(TriangleVerts) - 1);
+        }
         bool shortened = false;
         for (uint32_t k = 0, count = leaf.triangle_count(); k < count; ++k) {
             const uint32_t id = ids[k];
