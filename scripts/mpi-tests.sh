@@ -109,6 +109,8 @@ sleep 1
 kill -STOP "$victim"
 status=0
 wait $launcher || status=$?
+kill -CONT "$victim" 2>/dev/null || true  # a stopped process may outlive mpirun's SIGTERM
+kill -9 "$victim" 2>/dev/null || true
 expect_failure "rank 1 has not" hung $status
 
 # A scene that loads on rank 0 and is malformed on rank 1 (each rank reads its own folder, as on

@@ -250,7 +250,7 @@ RenderJobResult run_render_job(const RenderJob& job) {
     const auto build_start = std::chrono::steady_clock::now();
     const KdTree tree = [&] {
         const render_detail::ProgressBar progress(0, !job.quiet && writer, "building the kd-tree");
-        return share_tree(scene, [&] { return build_kdtree(scene); });
+        return share_tree(scene, [&] { return build_kdtree(scene); }, job.rank_timeout);
     }();
     out.kd_build_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count();

@@ -36,7 +36,7 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const 
                                 std::vector<RankStats>*, double) {
     return render(scene, tracer, options);
 }
-KdTree share_tree(const Scene&, const std::function<KdTree()>& build) { return build(); }
+KdTree share_tree(const Scene&, const std::function<KdTree()>& build, double) { return build(); }
 void distribute_items(size_t count, const std::function<std::vector<char>(size_t)>& work,
                       const std::function<void(size_t, std::vector<char>&)>& done,
                       std::vector<RankStats>*, double, uint64_t) {
@@ -253,17 +253,23 @@ namespace {
 
 /// Waits for a non-blocking operation with short sleeps: Open MPI's blocking calls spin, and a
 /// rank waiting for rank 0's build would take a core from it on a shared host.
-void wait_quietly(MPI_Request& request) {
+/// Rank 0 gives up after timeout_seconds (a rank that hangs before taking the tree); the other
+/// ranks wait as long as rank 0's build takes.
+void wait_quietly(MPI_Request& request, double timeout_seconds) {
+    const auto start = Clock::now();
     for (int done = 0;;) {
         MPI_Test(&request, &done, MPI_STATUS_IGNORE);
         if (done) return;
+        if (world_rank == 0 && seconds_since(start) > timeout_seconds)
+            mpi_abort("a rank has not taken the kd-tree after " + std::to_string(int(timeout_seconds)) +
+                      " s (hung while loading?; --rank-timeout)");
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
 }
 
 }  // namespace
 
-KdTree share_tree(const Scene& scene, const std::function<KdTree()>& build) {
+KdTree share_tree(const Scene& scene, const std::function<KdTree()>& build, double timeout_seconds) {
     if (world_size < 2) return build();
     KdTree tree;
     std::vector<char> bytes;
@@ -276,7 +282,7 @@ KdTree share_tree(const Scene& scene, const std::function<KdTree()>& build) {
     const uint64_t mine = header[1];
     MPI_Request request;
     MPI_Ibcast(header, 2, MPI_UINT64_T, 0, MPI_COMM_WORLD, &request);
-    wait_quietly(request);
+    wait_quietly(request, timeout_seconds);
     if (header[1] != mine)
         mpi_abort("this rank's scene is not rank 0's (the geometry differs; every rank must load "
                   "the same file)");
@@ -285,7 +291,7 @@ KdTree share_tree(const Scene& scene, const std::function<KdTree()>& build) {
     for (uint64_t offset = 0; offset < header[0]; offset += uint64_t(1) << 30) {
         const int count = int(std::min<uint64_t>(header[0] - offset, uint64_t(1) << 30));
         MPI_Ibcast(bytes.data() + offset, count, MPI_BYTE, 0, MPI_COMM_WORLD, &request);
-        wait_quietly(request);
+        wait_quietly(request, timeout_seconds);
     }
     return world_rank == 0 ? tree : unpack_tree(bytes);
 }

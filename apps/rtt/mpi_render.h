@@ -32,11 +32,16 @@ int mpi_size();
 /// aborts every rank (the exit status is not 0, and rank 0 writes no output).
 [[noreturn]] void mpi_abort(const std::string& message);
 
+/// Default of --rank-timeout: seconds rank 0 waits for a rank's band (or, once rank 0 has
+/// nothing left to render, for a rank to ask for work) before it stops the job.
+inline constexpr double default_rank_timeout = 120;
+
 /// The kd-tree every rank renders with: rank 0 builds it (build(), on all its threads) while the
 /// other ranks wait without spinning, then sends it to them (faster than building it again on
 /// every rank: docs/distributed.md). Each rank first checks that its scene's geometry is rank
 /// 0's, or the job stops naming the rank. Without MPI, or with one rank: build().
-KdTree share_tree(const Scene& scene, const std::function<KdTree()>& build);
+KdTree share_tree(const Scene& scene, const std::function<KdTree()>& build,
+                  double timeout_seconds = default_rank_timeout);
 
 /// What one rank did in a distributed render: the load balance.
 struct RankStats {
@@ -46,9 +51,6 @@ struct RankStats {
     double idle_seconds = 0;   ///< Wall time waiting for bands or for the others to finish.
 };
 
-/// Default of --rank-timeout: seconds rank 0 waits for a rank's band (or, once rank 0 has
-/// nothing left to render, for a rank to ask for work) before it stops the job.
-inline constexpr double default_rank_timeout = 120;
 
 /// render() distributed over the ranks. Every rank must call it with the same scene and options.
 /// Rank 0 gets the whole result, with the ray statistics summed over the ranks, and (if
