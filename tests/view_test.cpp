@@ -137,7 +137,9 @@ TEST(ViewFrames, MovingFramesUseOneSampleAndShadowsOffTracesNoSegments) {
 #ifdef RTT_TEST_HAVE_VIEWER
 /// The headless window runs need Xvfb (Debian's xvfb, installed by scripts/install-deps.sh).
 bool have_xvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 0; }
-const std::string xvfb = "xvfb-run -a -s '-screen 0 640x480x24' ";
+// Mesa's GL driver is loaded and unloaded by GLFW and leaves a few allocations LeakSanitizer
+// cannot name (frames in an unloaded module): the sanitizer build checks leaks everywhere else.
+const std::string xvfb = "env ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 640x480x24' ";
 
 TEST(ViewWindow, ScreenshotEqualsRenderOfTheSameCamera) {
     if (!have_xvfb()) GTEST_SKIP() << "xvfb-run not installed";
