@@ -10,12 +10,14 @@ shift 2
 pid=$!
 window=""
 for _ in $(seq 1200); do  # up to a minute: a sanitizer build under load starts slowly
-  window=$(xdotool search --name '^rtt view' 2>/dev/null | head -1)
+  # The title becomes the stats line after the first frame: the window then takes input.
+  window=$(xdotool search --name '^rtt view [|]' 2>/dev/null | head -1)
   [ -n "$window" ] && break
   sleep 0.05
 done
 [ -n "$window" ] || { kill "$pid"; echo "no window appeared" >>"$out"; exit 1; }
 xdotool windowfocus --sync "$window"
+sleep 0.3
 step() { "$@"; sleep 0.2; }
 step xdotool key c
 step xdotool mousemove --window "$window" 40 40
