@@ -89,10 +89,10 @@ expect_failure() {
 }
 
 # A rank killed mid-render.
-"${mpi[@]}" -np 2 "$rtt" render --scene office --size 1024x768 --aa 3 --threads 1 -q -o killed.png \
+"${mpi[@]}" -np 2 "$rtt" render --scene office --size 2048x1536 --aa 4 --threads 1 -q -o killed.png \
   --hits killed.rtth > mpirun.log 2>&1 &
 launcher=$!
-victim=$(rank1_of "$rtt render --scene office")
+victim=$(rank1_of "$rtt render --scene office --size 2048x1536")
 sleep 2  # loading and building: the kill falls in the middle of the job
 kill -9 "$victim"
 status=0
@@ -101,10 +101,11 @@ expect_failure "signal 9" killed $status
 
 # A rank that hangs (stopped by SIGSTOP) while the others render: rank 0 gives up after
 # --rank-timeout seconds and names it.
-"${mpi[@]}" -np 2 "$rtt" render --scene room --size 1024x768 --aa 3 --threads 1 -q -o hung.png \
+# The job is long (several seconds per rank) so that the stop falls inside it.
+"${mpi[@]}" -np 2 "$rtt" render --scene room --size 2048x1536 --aa 4 --threads 1 -q -o hung.png \
   --rank-timeout 3 > mpirun.log 2>&1 &
 launcher=$!
-victim=$(rank1_of "$rtt render --scene room --size 1024x768")
+victim=$(rank1_of "$rtt render --scene room --size 2048x1536")
 sleep 1
 kill -STOP "$victim"
 status=0
