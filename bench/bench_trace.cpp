@@ -78,11 +78,7 @@ Frame make_frame(const std::string& scene_name, int width, int height, int aa, i
     const auto packet = make_tracer("packet", f.scene.scene, f.scene.tree);
     for (int b = 0; b < workload.band_count(); ++b) {
         Band band = workload.make_band(b);
-        std::vector<Hit> hits(band.rays.size());
-        for (size_t t = 0; t < band.tile_count(); ++t)
-            packet->intersect(band.ray_tile(t),
-                              std::span(hits).subspan(band.tile_offset(t), band.tile_size(t)));
-        workload.add_shadows(band, hits);
+        workload.add_shadows(band, band.intersect(*packet));
         for (const ShadowJob& j : band.shadow_jobs) f.shadow_rays += j.active;
         f.bands.push_back(std::move(band));
     }

@@ -114,21 +114,19 @@ kill -CONT "$victim" 2>/dev/null || true  # a stopped process may outlive mpirun
 kill -9 "$victim" 2>/dev/null || true
 expect_failure "rank 1 has not" hung $status
 
-# A scene that loads on rank 0 and is malformed on rank 1 (each rank reads its own folder, as on
-# machines whose copies of a file differ): the job stops with rank 1's error, no hang.
-mkdir r0 r1
-printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > r0/scene.obj
-printf 'v 0 0 0\nf 1 2 x\n' > r1/scene.obj
-status=0
-timeout 60 "${mpi[@]}" -np 2 bash -c "cd r\$OMPI_COMM_WORLD_RANK && exec '$rtt' render --mesh scene.obj \
-  --size 64x48 -q -o '$work/badscene.png'" > mpirun.log 2>&1 || status=$?
-expect_failure "rank 1 of 2: scene.obj:2" badscene $status
-
-# Both files load but hold different geometry: the shared tree would be wrong on rank 1, so the
-# job stops before rendering.
-printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > r0/other.obj
-printf 'v 0 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\n' > r1/other.obj
-status=0
-timeout 60 "${mpi[@]}" -np 2 bash -c "cd r\$OMPI_COMM_WORLD_RANK && exec '$rtt' render --mesh other.obj \
-  --size 64x48 -q -o '$work/other.png'" > mpirun.log 2>&1 || status=$?
-expect_failure "rank 1 of 2: this rank's scene is not rank 0's" other $status
+# Each rank reads scene.obj from its own folder (as on machines whose copies of a file differ):
+# rank 0's holds $1, rank 1's $2; the job must stop with an error holding $3, no hang.
+per_rank_scene() {
+  rm -rf r0 r1 && mkdir r0 r1
+  printf "$1" > r0/scene.obj
+  printf "$2" > r1/scene.obj
+  local status=0
+  timeout 60 "${mpi[@]}" -np 2 bash -c "cd r\$OMPI_COMM_WORLD_RANK && exec '$rtt' render --mesh scene.obj \
+    --size 64x48 -q -o '$work/per_rank.png'" > mpirun.log 2>&1 || status=$?
+  expect_failure "$3" per_rank $status
+}
+triangle='v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n'
+# Malformed on rank 1.
+per_rank_scene "$triangle" 'v 0 0 0\nf 1 2 x\n' "rank 1 of 2: scene.obj:2"
+# Both load, with different geometry: the shared tree would be wrong on rank 1.
+per_rank_scene "$triangle" 'v 0 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\n' "rank 1 of 2: this rank's scene is not rank 0's"

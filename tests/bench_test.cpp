@@ -91,10 +91,7 @@ TEST(BenchWorkload, RaysAndShadowSegmentsAreTheRenderers) {
         uint64_t mismatches = 0, compared = 0, segments = 0, jobs = 0;
         for (int b = 0; b < workload.band_count(); ++b) {
             Band band = workload.make_band(b);
-            std::vector<Hit> hits(band.rays.size());
-            for (size_t t = 0; t < band.tile_count(); ++t)
-                packet->intersect(band.ray_tile(t),
-                                  std::span(hits).subspan(band.tile_offset(t), band.tile_size(t)));
+            const std::vector<Hit> hits = band.intersect(*packet);
             for (size_t t = 0; t < band.tile_count(); ++t)
                 for (int sr = 0; sr < band.tile_height(t); ++sr)
                     for (int sc = 0; sc < band.tile_width(t); ++sc) {
@@ -172,14 +169,20 @@ TEST(BenchMeasure, RejectsAMissingBaseline) {
     EXPECT_THROW(measure(workload, make_tracers(scene(), {"ray"}), options), Error);
 }
 
-TEST(BenchReport, JsonHoldsEveryFigureAndParses) {
-    const Workload workload(scene(), 16, 12, 1, 1000);
+/// An experiment of one measurement of `kinds` on a 16x12 image with K x K samples.
+ExperimentResult tiny_experiment(int aa, const std::vector<std::string>& kinds, int repetitions) {
+    const Workload workload(scene(), 16, 12, aa, 1000);
     ExperimentResult e;
     e.id = "tiny";
-    e.title = "tiny";
+    e.title = "a tiny experiment";
     MeasureOptions options;
-    options.repetitions = 1;
-    e.measurements.push_back(measure(workload, make_tracers(scene(), {"ray", "packet"}), options));
+    options.repetitions = repetitions;
+    e.measurements.push_back(measure(workload, make_tracers(scene(), kinds), options));
+    return e;
+}
+
+TEST(BenchReport, JsonHoldsEveryFigureAndParses) {
+    ExperimentResult e = tiny_experiment(1, {"ray", "packet"}, 1);
     e.tables.push_back(TextTable{"t", {"a", "b"}, {{"1", "2"}}, {"note"}});
     ResultsDocument doc;
     doc.machine = machine_info();
@@ -202,13 +205,7 @@ TEST(BenchReport, JsonHoldsEveryFigureAndParses) {
 
 TEST(BenchReport, ExperimentsComeBackFromTheirJsonUnchanged) {
     // A distributed `rtt bench` sends each experiment's result to rank 0 as this JSON.
-    const Workload workload(scene(), 16, 12, 2, 1000);
-    ExperimentResult e;
-    e.id = "tiny";
-    e.title = "a tiny experiment";
-    MeasureOptions options;
-    options.repetitions = 2;
-    e.measurements.push_back(measure(workload, make_tracers(scene(), {"packet", "rtt"}), options));
+    ExperimentResult e = tiny_experiment(2, {"packet", "rtt"}, 2);
     e.tables.push_back(TextTable{"t", {"a", "b"}, {{"1", "2"}, {"3", "4"}}, {"note"}});
     e.files = {"plot.svg"};
     e.findings = {"fast"};

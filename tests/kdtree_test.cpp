@@ -453,17 +453,36 @@ TEST(KdTree, BadInputThrows) {
     EXPECT_THROW(build_kdtree(s), Error);
 }
 
+/// A random triangle in [-2, 2]^3 (flat in z if asked) and a random box in [-1, 1]^3.
+std::pair<TriangleVerts, Bbox3f> random_triangle_and_box(std::mt19937& rng, bool flat) {
+    std::uniform_real_distribution<float> pos(-2.f, 2.f);
+    TriangleVerts t{{pos(rng), pos(rng), pos(rng)}, {pos(rng), pos(rng), pos(rng)},
+                    {pos(rng), pos(rng), pos(rng)}};
+    if (flat) t.v2.z = t.v1.z = t.v0.z;
+    Bbox3f box;
+    box.extend(Vec3f{pos(rng), pos(rng), pos(rng)} * 0.5f);
+    box.extend(Vec3f{pos(rng), pos(rng), pos(rng)} * 0.5f);
+    return {t, box};
+}
+
+/// A uniformly random point of t, in double (a flat triangle's points keep its exact z).
+Vec3d random_point_on(std::mt19937& rng, const TriangleVerts& t, bool flat) {
+    std::uniform_real_distribution<float> u01(0.f, 1.f);
+    float a = u01(rng), b = u01(rng);
+    if (a + b > 1.f) {
+        a = 1.f - a;
+        b = 1.f - b;
+    }
+    return {(1.0 - a - b) * t.v0.x + a * double(t.v1.x) + b * double(t.v2.x),
+            (1.0 - a - b) * t.v0.y + a * double(t.v1.y) + b * double(t.v2.y),
+            flat ? double(t.v0.z) : (1.0 - a - b) * t.v0.z + a * double(t.v1.z) + b * double(t.v2.z)};
+}
+
 TEST(KdClip, ContainsEveryPointOfTheTriangleInsideTheBox) {
     std::mt19937 rng(3);
-    std::uniform_real_distribution<float> pos(-2.f, 2.f), u01(0.f, 1.f);
     size_t inside_points = 0, missed = 0, misses_returned = 0;
     for (int k = 0; k < 4000; ++k) {
-        TriangleVerts t{{pos(rng), pos(rng), pos(rng)}, {pos(rng), pos(rng), pos(rng)},
-                        {pos(rng), pos(rng), pos(rng)}};
-        if (k % 4 == 0) t.v2.z = t.v1.z = t.v0.z;  // flat in z
-        Bbox3f box;
-        box.extend(Vec3f{pos(rng), pos(rng), pos(rng)} * 0.5f);
-        box.extend(Vec3f{pos(rng), pos(rng), pos(rng)} * 0.5f);
+        const auto [t, box] = random_triangle_and_box(rng, k % 4 == 0);
         Bbox3f out;
         const bool met = clip_triangle_to_box(t, box, out);
         if (met) {
@@ -478,15 +497,7 @@ TEST(KdClip, ContainsEveryPointOfTheTriangleInsideTheBox) {
             }
         }
         for (int j = 0; j < 200; ++j) {
-            float a = u01(rng), b = u01(rng);
-            if (a + b > 1.f) {
-                a = 1.f - a;
-                b = 1.f - b;
-            }
-            const Vec3d p{(1.0 - a - b) * t.v0.x + a * double(t.v1.x) + b * double(t.v2.x),
-                          (1.0 - a - b) * t.v0.y + a * double(t.v1.y) + b * double(t.v2.y),
-                          k % 4 == 0 ? double(t.v0.z)
-                                     : (1.0 - a - b) * t.v0.z + a * double(t.v1.z) + b * double(t.v2.z)};
+            const Vec3d p = random_point_on(rng, t, k % 4 == 0);
             if (!box_contains(box, p)) continue;
             ++inside_points;
             misses_returned += !met;
@@ -500,15 +511,10 @@ TEST(KdClip, ContainsEveryPointOfTheTriangleInsideTheBox) {
 
 TEST(KdClip, BothChildrenContainEveryPointOfTheTriangleInsideThem) {
     std::mt19937 rng(4);
-    std::uniform_real_distribution<float> pos(-2.f, 2.f), u01(0.f, 1.f);
+    std::uniform_real_distribution<float> u01(0.f, 1.f);
     size_t inside_points = 0, missed = 0, misses_returned = 0;
     for (int k = 0; k < 4000; ++k) {
-        TriangleVerts t{{pos(rng), pos(rng), pos(rng)}, {pos(rng), pos(rng), pos(rng)},
-                        {pos(rng), pos(rng), pos(rng)}};
-        if (k % 4 == 0) t.v2.z = t.v1.z = t.v0.z;  // flat in z
-        Bbox3f box;
-        box.extend(Vec3f{pos(rng), pos(rng), pos(rng)} * 0.5f);
-        box.extend(Vec3f{pos(rng), pos(rng), pos(rng)} * 0.5f);
+        const auto [t, box] = random_triangle_and_box(rng, k % 4 == 0);
         const int axis = k % 3;
         const float split = box.lo[axis] + u01(rng) * (box.hi[axis] - box.lo[axis]);
         const ClippedSides sides = clip_triangle_to_children(t, box, axis, split);
@@ -526,15 +532,7 @@ TEST(KdClip, BothChildrenContainEveryPointOfTheTriangleInsideThem) {
             }
         }
         for (int j = 0; j < 200; ++j) {
-            float a = u01(rng), b = u01(rng);
-            if (a + b > 1.f) {
-                a = 1.f - a;
-                b = 1.f - b;
-            }
-            const Vec3d p{(1.0 - a - b) * t.v0.x + a * double(t.v1.x) + b * double(t.v2.x),
-                          (1.0 - a - b) * t.v0.y + a * double(t.v1.y) + b * double(t.v2.y),
-                          k % 4 == 0 ? double(t.v0.z)
-                                     : (1.0 - a - b) * t.v0.z + a * double(t.v1.z) + b * double(t.v2.z)};
+            const Vec3d p = random_point_on(rng, t, k % 4 == 0);
             for (int c = 0; c < 2; ++c) {
                 if (!box_contains(child[c], p)) continue;
                 ++inside_points;

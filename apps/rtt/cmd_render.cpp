@@ -257,29 +257,31 @@ RenderJobResult run_render_job(const RenderJob& job) {
     out.kd_stats = tree.stats;
     const std::unique_ptr<Tracer> tracer = make_tracer(tracer_kind, scene, tree);
     opt.progress = opt.progress && writer;
+    const auto options_of = [&](RenderOptions o, size_t frame) {
+        o.camera = camera_of(frame);
+        if (lit_from_eye) scene.lights[0] = make_point_light(o.camera.position, bounds, 1);
+        return o;
+    };
+    // One frame's outputs are written all or none; earlier frames stay.
+    const auto write_frame = [&](size_t frame) {
+        OutputSet outputs;
+        frame_outputs(frame, outputs);
+        write_outputs(outputs, job, frame, frames, scene, out);
+        if (job.stats) print_stats(stdout, out);
+        if (frames > 1 && !job.quiet)
+            std::fprintf(stderr, "rtt: frame %zu of %zu done\n", frame + 1, frames);
+    };
     if (mpi_distributed() && frames >= size_t(mpi_size())) {
         // Enough frames for every rank: whole frames, no bands (docs/distributed.md).
-        const RenderOptions frame_opt = [&] {
-            RenderOptions o = opt;
-            o.progress = false;  // one line per finished frame instead
-            return o;
-        }();
+        RenderOptions frame_opt = opt;
+        frame_opt.progress = false;  // one line per finished frame instead
         std::vector<RankStats> ranks;
         render_frames_distributed(
             frames, frame_opt,
-            [&](size_t frame) {
-                RenderOptions o = frame_opt;
-                o.camera = camera_of(frame);
-                if (lit_from_eye) scene.lights[0] = make_point_light(o.camera.position, bounds, 1);
-                return render(scene, *tracer, o);
-            },
+            [&](size_t frame) { return render(scene, *tracer, options_of(frame_opt, frame)); },
             [&](size_t frame, RenderResult& r) {
                 out.result = std::move(r);
-                OutputSet outputs;
-                frame_outputs(frame, outputs);
-                write_outputs(outputs, job, frame, frames, scene, out);
-                if (job.stats) print_stats(stdout, out);
-                if (!job.quiet) std::fprintf(stderr, "rtt: frame %zu of %zu done\n", frame + 1, frames);
+                write_frame(frame);
             },
             &ranks, job.rank_timeout);
         out.ranks = ranks;
@@ -287,19 +289,11 @@ RenderJobResult run_render_job(const RenderJob& job) {
         return out;
     }
     for (size_t frame = 0; frame < frames; ++frame) {
-        opt.camera = camera_of(frame);
-        if (lit_from_eye) scene.lights[0] = make_point_light(opt.camera.position, bounds, 1);
+        opt = options_of(opt, frame);
         out.ranks.clear();
         out.result = mpi_distributed() ? render_distributed(scene, *tracer, opt, &out.ranks, job.rank_timeout)
                                        : render(scene, *tracer, opt);
-        if (!writer) continue;
-        // One frame's outputs are written all or none; earlier frames stay.
-        OutputSet outputs;
-        frame_outputs(frame, outputs);
-        write_outputs(outputs, job, frame, frames, scene, out);
-        if (job.stats) print_stats(stdout, out);
-        if (frames > 1 && !job.quiet)
-            std::fprintf(stderr, "rtt: frame %zu of %zu done\n", frame + 1, frames);
+        if (writer) write_frame(frame);
     }
     return out;
 }

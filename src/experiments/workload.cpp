@@ -65,6 +65,13 @@ void prefetch_bytes(const void* data, size_t bytes) {
 
 }  // namespace
 
+std::vector<Hit> Band::intersect(const Tracer& tracer) const {
+    std::vector<Hit> hits(rays.size());
+    for (size_t t = 0; t < tile_count(); ++t)
+        tracer.intersect(ray_tile(t), std::span(hits).subspan(tile_offset(t), tile_size(t)));
+    return hits;
+}
+
 void Band::prefetch_ray_tile(size_t t) const {
     if (t >= tile_count()) return;
     prefetch_bytes(rays.data() + tile_offset(t), tile_size(t) * sizeof(Ray));

@@ -86,6 +86,8 @@ struct Band {
     int row_width() const { return (tiles_x - 1) * side + last_width; }
     /// Primary tile t of this band.
     RayTile ray_tile(size_t t) const;
+    /// Every primary ray of the band traced by `tracer`, tile after tile, on this thread.
+    std::vector<Hit> intersect(const Tracer& tracer) const;
     /// Shadow tile of job j towards `light_position` (the scene's light of that job).
     SegmentTile segment_tile(const ShadowJob& job, const Vec3f& light_position) const;
     /// Start loading the inputs of primary tile t / shadow job j into the cache. The harness
