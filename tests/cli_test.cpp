@@ -144,6 +144,53 @@ TEST(Cli, InfoAndScenes) {
         EXPECT_NE(scenes.out.find(name), std::string::npos);
 }
 
+/// --save-tree then --load-tree: the same tree statistics and the same hits; a tree file for
+/// another mesh, or a damaged one, is refused with one line and nothing written.
+TEST(Cli, SavedTreeLoadsBack) {
+    const TempDir dir("tree_file");
+    const std::string mesh = "--mesh '" + mesh_path + "'";
+    const RunResult saved = run_cli(dir, "info " + mesh + " --save-tree t.kdtree");
+    ASSERT_EQ(saved.exit_code, 0) << saved.err;
+    const RunResult loaded = run_cli(dir, "info " + mesh + " --load-tree t.kdtree");
+    ASSERT_EQ(loaded.exit_code, 0) << loaded.err;
+    EXPECT_NE(loaded.out.find("load time"), std::string::npos) << loaded.out;
+    const auto lines_until_sah = [](const std::string& out) {
+        return out.substr(0, out.find("build time") == std::string::npos ? out.find("load time")
+                                                                          : out.find("build time"));
+    };
+    EXPECT_EQ(lines_until_sah(saved.out), lines_until_sah(loaded.out));
+
+    const std::string render = "render " + mesh + " -q --size 37x29 --aa 2 --hits ";
+    ASSERT_EQ(run_cli(dir, render + "built.rtth --save-tree r.kdtree").exit_code, 0);
+    ASSERT_EQ(run_cli(dir, render + "loaded.rtth --load-tree r.kdtree").exit_code, 0);
+    EXPECT_EQ(read_hit_buffer(dir.file("built.rtth")).hits,
+              read_hit_buffer(dir.file("loaded.rtth")).hits);
+    EXPECT_EQ(read_text(dir.file("t.kdtree")), read_text(dir.file("r.kdtree")));
+
+    std::string bytes = read_text(dir.file("t.kdtree"));
+    std::ofstream(dir.file("short.kdtree"), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    bytes[bytes.size() / 2] ^= 0x10;
+    std::ofstream(dir.file("flipped.kdtree"), std::ios::binary) << bytes;
+    const std::string other = dir.write("other.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"another mesh", "render --mesh '" + other + "' --load-tree t.kdtree"},
+        {"truncated", "render " + mesh + " --load-tree short.kdtree"},
+        {"bit flipped", "info " + mesh + " --load-tree flipped.kdtree"},
+        {"not a tree", "info " + mesh + " --load-tree '" + other + "'"},
+        {"missing", "info " + mesh + " --load-tree nowhere.kdtree"},
+        {"save and load", "info " + mesh + " --load-tree t.kdtree --save-tree u.kdtree"},
+    };
+    const size_t files_before = dir.entries().size();
+    for (const auto& [what, args] : cases) {
+        const RunResult r = run_cli(dir, args + (args.rfind("render", 0) == 0 ? " -q -o x.png" : ""));
+        EXPECT_NE(r.exit_code, 0) << what;
+        EXPECT_LT(r.exit_code, 128) << what << ": crashed";
+        EXPECT_EQ(r.err.rfind("rtt: error: ", 0), 0u) << what << ": " << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << what << ": " << r.err;
+        EXPECT_EQ(dir.entries().size(), files_before) << what << ": left a file behind";
+    }
+}
+
 TEST(Cli, StatsAndMaps) {
     const TempDir dir("stats");
     const RunResult r =

@@ -15,6 +15,7 @@
 #include "mpi_render.h"
 #include "rtt/error.h"
 #include "rtt/io.h"
+#include "tree_args.h"
 
 namespace rtt::cli {
 namespace {
@@ -30,6 +31,7 @@ struct BenchArgs {
     std::string json;
     std::string markdown;
     std::string clock = "cpu";
+    std::string save_trees, load_trees;  // folders of <scene>.kdtree files
     std::string command_line;
 };
 
@@ -171,7 +173,17 @@ void run(const BenchArgs& args, const std::vector<Experiment>& experiments) {
                                   [&](std::FILE* f) { std::fwrite(md.data(), 1, md.size(), f); });
         }
     };
-    bench::SceneCache scenes;
+    // --save-tree / --load-tree DIR: one file per scene, DIR/<scene name or file stem>.kdtree.
+    const std::string tree_dir = args.load_trees.empty() ? args.save_trees : args.load_trees;
+    bench::SceneCache scenes([&](const std::string& name, const Scene& scene) {
+        const std::string file =
+            (std::filesystem::path(tree_dir) / std::filesystem::path(name).stem()).string() +
+            ".kdtree";
+        if (!args.save_trees.empty()) std::filesystem::create_directories(tree_dir);
+        return make_tree(TreeArgs{args.save_trees.empty() ? "" : file,
+                                  args.load_trees.empty() ? "" : file},
+                         scene);
+    });
     config.start = start;
     if (mpi_distributed()) {
         run_distributed(config, scenes, experiments, doc, save);
@@ -225,6 +237,13 @@ void add_bench_command(CLI::App& app) {
     bench->add_option("--json", args->json, "Write every figure and the machine details as JSON");
     bench->add_option("--markdown", args->markdown,
                       "Write the results as Markdown (docs/RESULTS.md)");
+    auto* save_trees = bench->add_option(
+        "--save-tree", args->save_trees,
+        "Write each scene's kd-tree to DIR/<scene>.kdtree after building it");
+    bench->add_option("--load-tree", args->load_trees,
+                      "Load each scene's kd-tree from DIR/<scene>.kdtree (written by --save-tree) "
+                      "instead of building it")
+        ->excludes(save_trees);
     bench->add_option("--clock", args->clock, "Single-thread clock: cpu or wall")
         ->capture_default_str();
 

@@ -6,17 +6,20 @@
 #include "rtt/kdtree.h"
 #include "scene_args.h"
 #include "stats_report.h"
+#include "tree_args.h"
 
 namespace rtt::cli {
 
 void add_info_command(CLI::App& app) {
     auto args = std::make_shared<SceneArgs>();
+    auto tree_args = std::make_shared<TreeArgs>();
     CLI::App* cmd =
         app.add_subcommand("info", "Triangle count and SAH kd-tree statistics of a mesh or scene");
     add_scene_options(*cmd, *args);
-    cmd->callback([args] {
+    add_tree_options(*cmd, *tree_args);
+    cmd->callback([args, tree_args] {
         const LoadedScene loaded = load_scene(*args);
-        const KdTree tree = build_kdtree(loaded.scene);
+        const KdTree tree = make_tree(*tree_args, loaded.scene);
         const KdStats& s = tree.stats;
         std::printf("scene                         %s\n", loaded.label.c_str());
         std::printf("triangles                     %zu\n", s.triangles);
@@ -29,8 +32,13 @@ void add_info_command(CLI::App& app) {
         std::printf("triangles per non-empty leaf  %.2f\n", s.avg_leaf_triangles);
         std::printf("triangle references           %zu\n", s.triangle_references);
         std::printf("SAH cost                      %.2f\n", s.sah_cost);
-        std::printf("build time                    %.3f s\n", s.build_seconds);
-        std::printf("build phases                  %s\n", kd_build_phases(s).c_str());
+        if (tree_args->load.empty()) {
+            std::printf("build time                    %.3f s\n", s.build_seconds);
+            std::printf("build phases                  %s\n", kd_build_phases(s).c_str());
+        } else {
+            std::printf("load time                     %.3f s (%s)\n", s.build_seconds,
+                        tree_args->load.c_str());
+        }
         std::printf("memory                        %.2f MiB\n",
                     double(s.memory_bytes) / (1024.0 * 1024.0));
     });

@@ -249,8 +249,10 @@ RenderJobResult run_render_job(const RenderJob& job) {
     out.tracer = tracer_kind;
     const auto build_start = std::chrono::steady_clock::now();
     const KdTree tree = [&] {
-        const render_detail::ProgressBar progress(0, !job.quiet && writer, "building the kd-tree");
-        return share_tree(scene, [&] { return build_kdtree(scene); }, job.rank_timeout);
+        const render_detail::ProgressBar progress(
+            0, !job.quiet && writer,
+            job.tree.load.empty() ? "building the kd-tree" : "loading the kd-tree");
+        return share_tree(scene, [&] { return make_tree(job.tree, scene); }, job.rank_timeout);
     }();
     out.kd_build_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count();
@@ -312,6 +314,7 @@ void add_render_command(CLI::App& app) {
         "diagonal, n = number of --light options), so images are neither black nor blown out\n"
         "whatever the scene's units. --camera and --light replace a scene's own.");
     add_scene_options(*cmd, job->scene);
+    add_tree_options(*cmd, job->tree);
     cmd->add_option("--camera", job->camera,
                     "Pinhole camera px,py,pz,tx,ty,tz,ux,uy,uz,fovy (degrees)");
     cmd->add_option("--camera-path", job->camera_path,

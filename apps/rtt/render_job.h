@@ -10,11 +10,13 @@
 #include "rtt/render.h"
 #include "mpi_render.h"
 #include "scene_args.h"
+#include "tree_args.h"
 
 namespace rtt::cli {
 
 struct RenderJob {
     SceneArgs scene;
+    TreeArgs tree;  ///< --save-tree, --load-tree
     std::string camera;  ///< "px,py,pz,tx,ty,tz,ux,uy,uz,fovy"; empty = scene's or default.
     std::string camera_path;  ///< --camera-path FILE: one camera per line, a frame each.
     std::string size = "640x480";  ///< "WxH".

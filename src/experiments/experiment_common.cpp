@@ -9,7 +9,7 @@ namespace rtt::bench {
 const BenchScene& SceneCache::get(const std::string& name) {
     auto it = scenes_.find(name);
     if (it == scenes_.end())
-        it = scenes_.emplace(name, std::make_unique<BenchScene>(load_bench_scene(name))).first;
+        it = scenes_.emplace(name, std::make_unique<BenchScene>(load_bench_scene(name, make_tree_))).first;
     return *it->second;
 }
 

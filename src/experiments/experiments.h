@@ -16,6 +16,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <functional>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -58,10 +59,16 @@ const char* mode_name(BenchMode mode);
 /// Scenes loaded on first use and kept for the following experiments.
 class SceneCache {
 public:
+    /// `make_tree`: as load_bench_scene's.
+    explicit SceneCache(
+        std::function<KdTree(const std::string& name, const Scene&)> make_tree = {})
+        : make_tree_(std::move(make_tree)) {}
+
     /// Throws rtt::Error for an unknown scene or a bad file.
     const BenchScene& get(const std::string& name);
 
 private:
+    std::function<KdTree(const std::string& name, const Scene&)> make_tree_;
     std::map<std::string, std::unique_ptr<BenchScene>> scenes_;
 };
 

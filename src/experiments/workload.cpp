@@ -26,7 +26,9 @@ void require_scene(const std::string& name_or_file) {
                 "; or a scene file)");
 }
 
-BenchScene load_bench_scene(const std::string& name_or_file) {
+BenchScene load_bench_scene(
+    const std::string& name_or_file,
+    const std::function<KdTree(const std::string& name, const Scene&)>& make_tree) {
     require_scene(name_or_file);
     BenchScene s;
     s.name = name_or_file;
@@ -34,7 +36,7 @@ BenchScene load_bench_scene(const std::string& name_or_file) {
                                              : load_scene_file(name_or_file);
     validate(s.scene);
     s.camera = s.scene.camera ? *s.scene.camera : default_camera_for(s.scene.bounds());
-    s.tree = build_kdtree(s.scene);
+    s.tree = make_tree ? make_tree(name_or_file, s.scene) : build_kdtree(s.scene);
     return s;
 }
 

@@ -17,6 +17,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -42,8 +43,10 @@ void require_scene(const std::string& name_or_file);
 
 /// Loads a built-in scene by name, or a scene file (JSON or any mesh format), and builds its
 /// kd-tree on the calling thread's oneTBB arena. Throws rtt::Error for an unknown name or a
-/// bad file.
-BenchScene load_bench_scene(const std::string& name_or_file);
+/// bad file. `make_tree`, if given, makes the tree instead (`rtt bench --load-tree`).
+BenchScene load_bench_scene(
+    const std::string& name_or_file,
+    const std::function<KdTree(const std::string& name, const Scene&)>& make_tree = {});
 
 /// The shadow segments of one tile towards one light (a SegmentTile over band-owned arrays).
 struct ShadowJob {
