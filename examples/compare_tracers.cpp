@@ -1,6 +1,8 @@
 // RTT against 4-wide packets on the same camera rays: every answer must be the same, bit for
-// bit; the times show what RTT saves. With antialiasing (argument K, default 4) a 4x4-pixel
-// tile holds 16 K^2 rays answered from one shaft.
+// bit; the times show what RTT saves. The image goes to the tracers as the renderer hands it
+// over: regions of R x R pixels (rtt::default_region(K), about 256 samples: 16 pixels at K = 1,
+// 4 from K = 3), each tried by RTT as one shaft.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +12,7 @@
 
 #include <rtt/camera.h>
 #include <rtt/kdtree.h>
+#include <rtt/render.h>
 #include <rtt/rtt_options.h>
 #include <rtt/tracer.h>
 
@@ -33,22 +36,29 @@ rtt::Scene terrain(int n) {
     return rtt::Scene::from_mesh(v, t, "terrain");
 }
 
-/// Traces every 4x4-pixel tile of the image; returns the seconds spent inside the tracer.
+/// Traces the image region by region; returns the seconds spent inside the tracer. hits[] holds
+/// each region's samples in its own grid order, regions in row-major order.
 double trace_image(const rtt::Tracer& tracer, const rtt::CameraRays& camera,
                    std::vector<rtt::Hit>& hits) {
-    const int side = 4 * camera.aa(), per_tile = side * side;
-    const int tiles_x = camera.width() / 4, tiles_y = camera.height() / 4;
-    hits.assign(size_t(tiles_x) * size_t(tiles_y) * size_t(per_tile), rtt::Hit{});
-    std::vector<rtt::Ray> rays(static_cast<size_t>(per_tile));
+    const int k = camera.aa(), cell = 4 * k;
+    const int tiles_per_region = rtt::default_region(k) / 4;
+    const int tiles_x = (camera.width() + 3) / 4, tiles_y = (camera.height() + 3) / 4;
+    hits.assign(size_t(tiles_x) * size_t(tiles_y) * size_t(cell * cell), rtt::Hit{});
+    std::vector<rtt::Ray> rays;
+    size_t done = 0;
     double seconds = 0;
-    for (int ty = 0; ty < tiles_y; ++ty)
-        for (int tx = 0; tx < tiles_x; ++tx) {
-            camera.tile_rays(tx, ty, rays);
+    for (int ty = 0; ty < tiles_y; ty += tiles_per_region)
+        for (int tx = 0; tx < tiles_x; tx += tiles_per_region) {
+            const int cols = std::min(tiles_per_region, tiles_x - tx);
+            const int rows = std::min(tiles_per_region, tiles_y - ty);
+            rays.resize(size_t(cols * cell) * size_t(rows * cell));
+            camera.region_rays(tx, ty, cols, rows, rays);
+            const rtt::RayTile region{cols * cell, rows * cell, rays, true,
+                                      tiles_per_region > 1 ? cell : 0};
             const auto start = std::chrono::steady_clock::now();
-            tracer.intersect(rtt::RayTile{side, side, rays, true},
-                             std::span(hits).subspan(size_t(ty * tiles_x + tx) * size_t(per_tile),
-                                                     size_t(per_tile)));
+            tracer.intersect(region, std::span(hits).subspan(done, rays.size()));
             seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            done += rays.size();
         }
     return seconds;
 }
