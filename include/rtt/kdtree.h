@@ -13,8 +13,10 @@
 namespace rtt {
 
 struct KdBuildConfig {
-    /// Cost of one ray/triangle test relative to one traversal step. Default 1.5 (Havran).
-    float isect_cost = 1.5f;
+    /// Cost of one ray/triangle test relative to one traversal step. Default 0.25, measured for
+    /// the 16-wide packets and RTT that trace most rays (docs/benchmarks.md, "SAH constants");
+    /// Havran's 1.5 suits single rays.
+    float isect_cost = 0.25f;
     /// Cost of one traversal step. Default 1.
     float trav_cost = 1.f;
     /// Fraction of the cost saved when a split cuts off empty space. Default 0.2.
