@@ -571,13 +571,16 @@ TEST(Rtt, ObjectsAgainstBackgroundMatchBruteForce) {
     // Needles: long thin triangles crossing regions between their corner rays, at several
     // depths, some with vertices on sample rays (K = 1 pixel centres of a 33 x 27 image).
     const CameraRays cam(camera, 33, 27, 1);
-    const auto at = [&](int x, int y, float d) { return cam.origin() + cam.direction(x, y, 0, 0) * d; };
+    const auto at = [&](int x, int y, float d) {
+        return cam.origin() + cam.direction(x, y, 0, 0) * d;
+    };
     for (int i = 0; i < 6; ++i) {
         const int x = 1 + 5 * i, y = 2 + 4 * i;
         const float d = 3.f + 0.7f * float(i);
         const Vec3f a = at(x, y, d), b = at(std::min(x + 9, 32), y, d);
         t.push_back({a, b, a + (at(x, y + 1, d) - a) * 0x1p-12f});
-        t.push_back({at(x, 26 - y / 2, d), at(x + 1, 0, d + 0.5f), at(x + 1, 0, d + 0.5f) + Vec3f{1e-4f, 0, 0}});
+        const Vec3f top = at(x + 1, 0, d + 0.5f);
+        t.push_back({at(x, 26 - y / 2, d), top, top + Vec3f{1e-4f, 0, 0}});
     }
     const Scene scene = scene_of(t);
     const KdTree tree = build_kdtree(scene);
