@@ -83,7 +83,7 @@ bool same_hit(const Hit& a, const Hit& b) {
 }
 
 struct Tally {
-    uint64_t rays = 0, mismatches = 0, answered = 0;
+    uint64_t rays = 0, mismatches = 0, answered = 0, answered_misses = 0;
     uint64_t segments = 0, segment_mismatches = 0, segments_answered = 0;
 
     double answered_fraction() const { return rays ? double(answered) / double(rays) : 0.0; }
@@ -157,6 +157,7 @@ struct Differ {
                         ++tally.mismatches;
                     }
                     tally.answered += answers[i] != SampleAnswer::traced;
+                    tally.answered_misses += answers[i] != SampleAnswer::traced && !got[i].valid();
                 }
                 for (size_t i = 0; i < ns; ++i) {
                     points[i] =
@@ -558,6 +559,49 @@ TEST(Rtt, RegionsOnCornerRaysAndSoupsMatchBruteForce) {
     EXPECT_EQ(tally.mismatches, 0u);
     EXPECT_EQ(tally.segment_mismatches, 0u);
     EXPECT_GT(tally.answered, 0u);
+}
+
+// Objects against the background: regions whose corners miss are answered from a walk without
+// an end (misses included), on silhouettes, all-miss regions and needles between the corners.
+TEST(Rtt, ObjectsAgainstBackgroundMatchBruteForce) {
+    const Camera camera{{0.3f, 0.4f, 6}, {0, 0, 0}, {0, 1, 0}, 45};
+    Tris t;
+    add_sphere(t, {-0.6f, 0.2f, 0}, 0.9f, 20, 10);
+    add_soup(t, 80, 3, {1.2f, -0.4f, 0.3f}, 0.6f, 0.2f);
+    // Needles: long thin triangles crossing regions between their corner rays, at several
+    // depths, some with vertices on sample rays (K = 1 pixel centres of a 33 x 27 image).
+    const CameraRays cam(camera, 33, 27, 1);
+    const auto at = [&](int x, int y, float d) {
+        return cam.origin() + cam.direction(x, y, 0, 0) * d;
+    };
+    for (int i = 0; i < 6; ++i) {
+        const int x = 1 + 5 * i, y = 2 + 4 * i;
+        const float d = 3.f + 0.7f * float(i);
+        const Vec3f a = at(x, y, d), b = at(std::min(x + 9, 32), y, d);
+        t.push_back({a, b, a + (at(x, y + 1, d) - a) * 0x1p-12f});
+        const Vec3f top = at(x + 1, 0, d + 0.5f);
+        t.push_back({at(x, 26 - y / 2, d), top, top + Vec3f{1e-4f, 0, 0}});
+    }
+    const Scene scene = scene_of(t);
+    const KdTree tree = build_kdtree(scene);
+    Differ d(scene, tree, "brute");
+    const std::vector<Vec3f> lights = {{2, 3, 4}};
+    Tally tally;
+    for (int k = 1; k <= 4; ++k)
+        for (const int region : {4, 8, 16, 32}) {
+            if (k * k * region * region > 4096) continue;  // rtt_max_samples_per_tile
+            d.run(camera, 33, 27, k, lights, tally, region);
+            d.run(Camera{{4, 1, 3}, {0.5f, 0, 0}, {0, 1, 0}, 70}, 21, 13, k, lights, tally, region);
+        }
+    tally.print("objects on background");
+    EXPECT_EQ(tally.mismatches, 0u);
+    EXPECT_EQ(tally.segment_mismatches, 0u);
+    EXPECT_GT(tally.answered_misses, tally.rays / 10);
+    // Far away: every region misses the scene, and is answered without tracing.
+    Tally far;
+    d.run(Camera{{0, 0, 6}, {0, 40, 0}, {0, 0, 1}, 30}, 30, 22, 2, {}, far, 16);
+    EXPECT_EQ(far.mismatches, 0u);
+    EXPECT_GT(far.answered_misses, far.rays / 2);
 }
 
 // Tiles traced concurrently (the tracer keeps its scratch per thread): same answers as one by one.

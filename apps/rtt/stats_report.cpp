@@ -66,6 +66,12 @@ void print_stats(std::FILE* out, const RenderJobResult& r) {
                      (unsigned long long)t.answered, t.avg_relevant(), row.stats->seconds,
                      row.stats->mrays_per_second());
     }
+    if (s.primary.trace.open_tiles)
+        std::fprintf(out,
+                     "primary rtt tiles without an end (a corner missed): %llu, %llu of them "
+                     "empty (all miss)\n",
+                     (unsigned long long)s.primary.trace.open_tiles,
+                     (unsigned long long)s.primary.trace.empty_tiles);
     print_rank_stats(out, r.ranks);
     std::fprintf(out,
                  "seconds = time inside the tracer summed over threads; Mrays/s = rays / seconds; "

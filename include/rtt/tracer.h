@@ -62,6 +62,8 @@ struct TraceStats {
     uint64_t traced = 0;        ///< Rays traversed through the kd-tree (RTT: corners + fallbacks).
     uint64_t answered = 0;      ///< Rays answered from a relevant list without traversal.
     uint64_t relevant_sum = 0;  ///< Sum of relevant-list lengths over RTT tiles.
+    uint64_t open_tiles = 0;    ///< RTT tiles listed by a walk without an end (a corner missed).
+    uint64_t empty_tiles = 0;   ///< Of those, tiles whose list is empty: every accepted ray misses.
 
     TraceStats& operator+=(const TraceStats& o);
     double avg_relevant() const { return rtt_tiles ? double(relevant_sum) / double(rtt_tiles) : 0.0; }

@@ -16,6 +16,8 @@ TraceStats& TraceStats::operator+=(const TraceStats& o) {
     traced += o.traced;
     answered += o.answered;
     relevant_sum += o.relevant_sum;
+    open_tiles += o.open_tiles;
+    empty_tiles += o.empty_tiles;
     return *this;
 }
 

@@ -105,6 +105,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
     CornerResult& res = tls_corners;
     PrimaryEnd end;
     bool listed = false;
+    bool open = false;  // listed by a walk that completed without an end
     std::optional<ShaftRegion> region;  // primary_region(shaft, end), once it is built
     if (lean) {
         // Small tiles (takes_lean_pass): the paper's procedure, leaner than the walk. The
@@ -164,8 +165,17 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
             return;
         }
         for (int i = 0; i < 4; ++i) hits[cs[i]] = res.hit[i];
-        listed =
-            primary_end(shaft, corners, res.hit, end) && (slab_only || end.plane_id != no_plane);
+        if (primary_end(shaft, corners, res.hit, end)) {
+            listed = slab_only || end.plane_id != no_plane;
+        } else {
+            // A corner missed: `narrow` never narrowed, and the completed walk listed every
+            // triangle an accepted ray can hit anywhere in the cone beyond the start (within
+            // the scene's bounds), so a ray that hits none of them misses
+            // (docs/design.md, "Walks without an end").
+            open = listed = true;
+            end.end_limit = pos_inf;
+            end.plane_id = no_plane;
+        }
     } else {
         CornerStatus status =
             trace_corners<false>(tree_, triangles_, shaft, nullptr, corners, tls_mailbox, res);
@@ -191,9 +201,9 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         // end_limit along kz cannot be hit inside R; nor can one whose bounding box misses R
         // (the walk's own rule, rtt_cull.h; the walk may have listed it under a larger region).
         RelevantList& list = res.list;
-        if (!region) region.emplace(primary_region(shaft, end));
-        int kept = 0;
-        for (int j = 0; j < list.count; ++j) {
+        if (!open && !region) region.emplace(primary_region(shaft, end));
+        int kept = open ? list.count : 0;  // the walk's region was the final one
+        for (int j = kept; j < list.count; ++j) {
             const TriangleVerts& tri = triangles_[list.tri[j]];
             BoxV box;
             box.lo = min(min(BoxV::lanes(tri.v0), BoxV::lanes(tri.v1)), BoxV::lanes(tri.v2));
@@ -212,6 +222,10 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         st.rtt_tiles += 1;
         st.relevant_sum += uint64_t(list.count);
         st.answered += answered;
+        if (open) {
+            st.open_tiles += 1;
+            st.empty_tiles += uint64_t(list.count == 0);
+        }
     } else {
         for (int s = 0; s < n; ++s)
             if (s != cs[0] && s != cs[1] && s != cs[2] && s != cs[3]) need.set(s);
@@ -248,7 +262,10 @@ uint64_t RttTracer::answer_primary(const RayTile& tile, const Shaft& s, const Re
         // in R, so nothing outside the list can come first.
         const vf t = best.t;
         const vf dz = abs(r.dir[s.kz]);
-        ok &= (best.tri != vint<K>(int32_t(invalid_triangle))) & (t * dz <= vf(end_limit));
+        // Without an end (end_limit = +inf) R is the whole cone beyond the start and the list
+        // complete for it: a miss in the list is the ray's answer.
+        if (end_limit != pos_inf)
+            ok &= (best.tri != vint<K>(int32_t(invalid_triangle))) & (t * dz <= vf(end_limit));
         // g is affine along the ray: checking the answer and the start (reflected rays start
         // away from the apex) covers the whole segment.
         if (end) {
