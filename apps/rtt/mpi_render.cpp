@@ -66,7 +66,8 @@ void reduce_stats(RenderStats& s) {
     std::vector<double> seconds;
     for (KindStats* k : kinds) {
         const TraceStats& t = k->trace;
-        counts.insert(counts.end(), {t.tiles, t.rtt_tiles, t.rays, t.traced, t.answered, t.relevant_sum});
+        const auto counters = t.counter_values();
+        counts.insert(counts.end(), counters.begin(), counters.end());
         seconds.push_back(k->seconds);
     }
     counts.insert(counts.end(), s.rays_by_depth.begin(), s.rays_by_depth.end());
@@ -78,7 +79,7 @@ void reduce_stats(RenderStats& s) {
     size_t i = 0;
     for (int k = 0; k < 3; ++k) {
         TraceStats& t = kinds[k]->trace;
-        for (uint64_t* field : {&t.tiles, &t.rtt_tiles, &t.rays, &t.traced, &t.answered, &t.relevant_sum})
+        for (uint64_t* field : t.counters())
             *field = counts_sum[i++];
         kinds[k]->seconds = seconds_sum[size_t(k)];
     }

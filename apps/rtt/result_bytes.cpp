@@ -62,7 +62,8 @@ std::vector<char> pack_stats(const RenderStats& s) {
     std::vector<double> values;
     for (const KindStats* k : {&s.primary, &s.shadow, &s.secondary}) {
         const TraceStats& t = k->trace;
-        counts.insert(counts.end(), {t.tiles, t.rtt_tiles, t.rays, t.traced, t.answered, t.relevant_sum});
+        const auto counters = t.counter_values();
+        counts.insert(counts.end(), counters.begin(), counters.end());
         values.push_back(k->seconds);
     }
     counts.insert(counts.end(), s.rays_by_depth.begin(), s.rays_by_depth.end());
@@ -75,7 +76,7 @@ std::vector<char> pack_stats(const RenderStats& s) {
 }
 
 void unpack_stats(const char* p, RenderStats& s) {
-    std::vector<uint64_t> counts(18 + s.rays_by_depth.size() + 1);
+    std::vector<uint64_t> counts(3 * TraceStats{}.counters().size() + s.rays_by_depth.size() + 1);
     std::vector<double> values(4);
     take(p, counts, 0, counts.size());
     take(p, values, 0, values.size());
@@ -83,7 +84,7 @@ void unpack_stats(const char* p, RenderStats& s) {
     KindStats* kinds[3] = {&s.primary, &s.shadow, &s.secondary};
     for (int k = 0; k < 3; ++k) {
         TraceStats& t = kinds[k]->trace;
-        for (uint64_t* field : {&t.tiles, &t.rtt_tiles, &t.rays, &t.traced, &t.answered, &t.relevant_sum})
+        for (uint64_t* field : t.counters())
             *field = counts[i++];
         kinds[k]->seconds = values[size_t(k)];
     }

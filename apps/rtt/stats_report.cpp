@@ -20,6 +20,8 @@ nlohmann::json kind_json(const KindStats& k) {
             {"traced", t.traced},
             {"answered", t.answered},
             {"relevant_sum", t.relevant_sum},
+            {"open_tiles", t.open_tiles},
+            {"empty_tiles", t.empty_tiles},
             {"avg_relevant", t.avg_relevant()},
             {"seconds", k.seconds},
             {"mrays_per_second", k.mrays_per_second()}};

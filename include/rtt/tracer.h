@@ -3,6 +3,7 @@
 // primary, shadow and secondary rays.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -64,6 +65,14 @@ struct TraceStats {
     uint64_t relevant_sum = 0;  ///< Sum of relevant-list lengths over RTT tiles.
     uint64_t open_tiles = 0;    ///< RTT tiles listed by a walk without an end (a corner missed).
     uint64_t empty_tiles = 0;   ///< Of those, tiles whose list is empty: every accepted ray misses.
+
+    /// Every counter above, for code that adds or ships them all (sums, MPI ranks).
+    std::array<uint64_t*, 8> counters() {
+        return {&tiles, &rtt_tiles, &rays, &traced, &answered, &relevant_sum, &open_tiles, &empty_tiles};
+    }
+    std::array<uint64_t, 8> counter_values() const {
+        return {tiles, rtt_tiles, rays, traced, answered, relevant_sum, open_tiles, empty_tiles};
+    }
 
     TraceStats& operator+=(const TraceStats& o);
     double avg_relevant() const { return rtt_tiles ? double(relevant_sum) / double(rtt_tiles) : 0.0; }

@@ -10,14 +10,9 @@
 namespace rtt {
 
 TraceStats& TraceStats::operator+=(const TraceStats& o) {
-    tiles += o.tiles;
-    rtt_tiles += o.rtt_tiles;
-    rays += o.rays;
-    traced += o.traced;
-    answered += o.answered;
-    relevant_sum += o.relevant_sum;
-    open_tiles += o.open_tiles;
-    empty_tiles += o.empty_tiles;
+    const auto values = o.counter_values();
+    const auto fields = counters();
+    for (size_t i = 0; i < fields.size(); ++i) *fields[i] += values[i];
     return *this;
 }
 
