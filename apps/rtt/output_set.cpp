@@ -1,12 +1,12 @@
 #include "output_set.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <system_error>
 
 #include "rtt/error.h"
@@ -63,12 +63,10 @@ void OutputSet::check_writable() const {
         std::error_code ec;
         if (!fs::is_directory(folder, ec)) throw Error(prefix + "folder " + folder.string() + " does not exist");
         if (fs::is_directory(e.path, ec)) throw Error(prefix + "it is a folder");
-        const fs::path probe = folder / (".rtt-probe-" + std::to_string(::getpid()));
-        {
-            std::ofstream out(probe);
-            if (!out) throw Error(prefix + "folder " + folder.string() + " is not writable (" + std::strerror(errno) + ")");
-        }
-        fs::remove(probe, ec);
+        // Asked of the system rather than probed with a file: a run killed right after a probe
+        // was created would leave it behind.
+        if (::faccessat(AT_FDCWD, folder.c_str(), W_OK | X_OK, AT_EACCESS) != 0)
+            throw Error(prefix + "folder " + folder.string() + " is not writable (" + std::strerror(errno) + ")");
     }
 }
 
@@ -76,9 +74,10 @@ void OutputSet::write(const std::string& path, const std::function<void(const st
     auto it = std::find_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.path == path; });
     if (it == entries_.end()) throw Error("internal: output " + path + " was not checked before the work");
     // Hidden, in the same folder, so the final rename is atomic.
-    it->temporary =
-        (folder_of(path) / ("." + fs::path(path).filename().string() + ".rtt-" + std::to_string(::getpid())))
-            .string();
+    std::string name(".");  // appended, not "." + ...: GCC 12 warns falsely (-Wrestrict) on that
+    name += fs::path(path).filename().string();
+    name += ".rtt-" + std::to_string(::getpid());
+    it->temporary = (folder_of(path) / name).string();
     write(it->temporary);
 }
 
