@@ -162,7 +162,11 @@ TEST(Cli, SavedTreeLoadsBack) {
 
     const std::string render = "render " + mesh + " -q --size 37x29 --aa 2 --hits ";
     ASSERT_EQ(run_cli(dir, render + "built.rtth --save-tree r.kdtree").exit_code, 0);
-    ASSERT_EQ(run_cli(dir, render + "loaded.rtth --load-tree r.kdtree").exit_code, 0);
+    const RunResult rendered = run_cli(dir, render + "loaded.rtth --load-tree r.kdtree --stats");
+    ASSERT_EQ(rendered.exit_code, 0) << rendered.err;
+    const std::string report = rendered.out + rendered.err;
+    EXPECT_NE(report.find("kd-tree loaded in"), std::string::npos) << report;
+    EXPECT_EQ(report.find("kd-tree build:"), std::string::npos) << report;  // no build phases
     EXPECT_EQ(read_hit_buffer(dir.file("built.rtth")).hits,
               read_hit_buffer(dir.file("loaded.rtth")).hits);
     EXPECT_EQ(read_text(dir.file("t.kdtree")), read_text(dir.file("r.kdtree")));

@@ -256,6 +256,7 @@ RenderJobResult run_render_job(const RenderJob& job) {
     }();
     out.kd_build_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count();
+    out.kd_loaded = !job.tree.load.empty();
     out.kd_stats = tree.stats;
     const std::unique_ptr<Tracer> tracer = make_tracer(tracer_kind, scene, tree);
     opt.progress = opt.progress && writer;

@@ -48,7 +48,8 @@ struct RenderJobResult {
     size_t triangles = 0;
     size_t input_warnings = 0;  ///< Scene::warning_count of the loaded scene.
     std::string tracer;
-    double kd_build_seconds = 0;
+    double kd_build_seconds = 0;  ///< Building, or loading with --load-tree (kd_loaded).
+    bool kd_loaded = false;
     KdStats kd_stats;
     RenderResult result;
     std::vector<RankStats> ranks;  ///< Under mpirun (on rank 0): what each rank did.

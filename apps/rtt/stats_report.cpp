@@ -49,13 +49,14 @@ void print_stats(std::FILE* out, const RenderJobResult& r) {
     const RenderResult& res = r.result;
     const RenderStats& s = res.stats;
     std::fprintf(
-        out, "%s: %zu triangles, kd-tree built in %.3f s; tracer %s; %dx%d, %dx%d AA, %d threads\n",
-        r.scene_label.c_str(), r.triangles, r.kd_build_seconds, r.tracer.c_str(), res.width,
+        out, "%s: %zu triangles, kd-tree %s in %.3f s; tracer %s; %dx%d, %dx%d AA, %d threads\n",
+        r.scene_label.c_str(), r.triangles, r.kd_loaded ? "loaded" : "built", r.kd_build_seconds,
+        r.tracer.c_str(), res.width,
         res.height, res.aa, res.aa, s.threads);
     if (r.input_warnings)
         std::fprintf(out, "input warnings: %zu (skipped or repaired input, first ones on stderr)\n",
                      r.input_warnings);
-    std::fprintf(out, "kd-tree build: %s\n", kd_build_phases(r.kd_stats).c_str());
+    if (!r.kd_loaded) std::fprintf(out, "kd-tree build: %s\n", kd_build_phases(r.kd_stats).c_str());
     std::fprintf(out, "%-10s %9s %9s %12s %12s %12s %9s %9s %9s\n", "rays", "tiles", "rtt tiles",
                  "rays", "traced", "answered", "avg list", "seconds", "Mrays/s");
     const KindRow rows[] = {
@@ -95,6 +96,7 @@ void write_stats_json(const std::string& path, const RenderJob& job, const Rende
         {"threads", s.threads},
         {"max_depth", job.max_depth},
         {"kd_build_seconds", r.kd_build_seconds},
+        {"kd_tree_loaded", r.kd_loaded},
         {"kd_build_phases",
          {{"setup_seconds", r.kd_stats.setup_seconds},
           {"tree_seconds", r.kd_stats.tree_seconds},
