@@ -30,6 +30,7 @@ constexpr char magic[8] = {'R', 'T', 'T', 'K', 'D', 'T', 'R', 'E'};
 class Hasher {
 public:
     void update(const void* data, size_t size) {
+        if (size == 0) return;  // data may be null (an empty array), which memcpy must not see
         const auto* p = static_cast<const uint8_t*>(data);
         total_ += size;
         if (pending_ > 0) {
