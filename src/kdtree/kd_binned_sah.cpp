@@ -5,7 +5,10 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace rtt::kd {
@@ -16,35 +19,52 @@ constexpr int max_planes = 255;
 /// Triangles per task when a large node counts its triangles.
 constexpr size_t grain = 8192;
 
-/// The planes of one axis: their positions, and a fast exact count of the planes below a value.
+/// The float before x (x finite; -0 and +0 are one value), without branches.
+float next_down(float x) {
+    const int32_t bits = std::bit_cast<int32_t>(x + 0.f);
+    const int32_t below = bits > 0 ? bits - 1 : bits < 0 ? bits + 1 : int32_t(0x80000001u);
+    return std::bit_cast<float>(below);
+}
+float next_up(float x) { return -next_down(-x); }
+
+/// The planes of one axis. A value's bin is its scaled offset rounded down, and plane k is the
+/// least float whose bin is k: the bin then IS the count of planes <= the value, exactly, with
+/// no search and no correction (the bin is monotone in the value, since float subtraction and
+/// multiplication round monotonically). The count of planes < x is the bin of the float before x.
 struct AxisPlanes {
     std::array<float, max_planes + 2> pos;  ///< pos[1..planes]; pos[0] = -inf, pos[planes+1] = +inf
     int planes = 0;
     float lo = 0.f, scale = 0.f;
 
-    /// Evenly spaced planes strictly inside (lo, hi), strictly increasing; false when the box
-    /// is too thin along the axis to hold them.
+    /// Number of planes <= x.
+    int bin(float x) const { return int(std::clamp((x - lo) * scale, 0.f, float(planes))); }
+    /// Number of planes < x.
+    int bin_strict(float x) const { return bin(next_down(x)); }
+
+    /// Planes strictly inside (lo, hi), about evenly spaced and strictly increasing; false when
+    /// the box is too thin along the axis to hold them.
     bool init(float box_lo, float box_hi, int k_planes) {
         planes = k_planes;
         lo = box_lo;
         scale = float(planes + 1) / (box_hi - box_lo);
+        if (!std::isfinite(scale) || !(scale > 0.f)) return false;
         pos[0] = neg_inf;
         pos[planes + 1] = pos_inf;
         for (int k = 1; k <= planes; ++k) {
-            pos[k] = float(double(box_lo) + (double(box_hi) - double(box_lo)) * k / (planes + 1));
-            if (!(pos[k] > (k == 1 ? box_lo : pos[k - 1]) && pos[k] < box_hi)) return false;
+            // From the even spacing, the few floats to the least one of bin k.
+            float p = float(double(box_lo) + (double(box_hi) - double(box_lo)) * k / (planes + 1));
+            for (int steps = 0; bin(p) >= k; ++steps) {
+                if (steps == 64 || !(p > box_lo)) return false;
+                p = next_down(p);
+            }
+            for (int steps = 0; bin(p) < k; ++steps) {
+                if (steps == 64 || !(p < box_hi)) return false;
+                p = next_up(p);
+            }
+            if (!(p > (k == 1 ? box_lo : pos[k - 1]) && p < box_hi)) return false;
+            pos[k] = p;
         }
-        return std::isfinite(scale);
-    }
-
-    /// Number of planes <= x (or < x when `strict`): an estimate, corrected against the
-    /// planes themselves so it is exact.
-    int count_below(float x, bool strict) const {
-        int k = int(std::clamp((x - lo) * scale, 0.f, float(planes)));
-        const auto below = [&](int j) { return strict ? pos[j] < x : pos[j] <= x; };
-        while (k < planes && below(k + 1)) ++k;
-        while (k > 0 && !below(k)) --k;
-        return k;
+        return true;
     }
 };
 
@@ -71,10 +91,12 @@ void count(std::span<const TriBox> items, const AxisPlanes (&axes)[3], Bins& b) 
     for (const TriBox& t : items)
         for (int a = 0; a < 3; ++a) {
             const float lo = t.box.lo[a], hi = t.box.hi[a];
-            const int k_lo = axes[a].count_below(lo, false);
+            const int k_lo = axes[a].bin(lo), k_hi = axes[a].bin_strict(hi);
             ++b.at(a, 0)[k_lo];
-            ++b.at(a, 1)[axes[a].count_below(hi, true)];
-            if (lo == hi && k_lo > 0 && axes[a].pos[k_lo] == lo) ++b.at(a, 2)[k_lo];
+            ++b.at(a, 1)[k_hi];
+            // Flat in a plane: lo is a plane's position exactly when the float before it has a
+            // lower bin.
+            if (lo == hi && k_hi != k_lo) ++b.at(a, 2)[k_lo];
         }
 }
 
@@ -177,12 +199,12 @@ SplitChoice find_binned_split(std::span<const TriBox> items, const Bbox3f& box,
             });
     }
 
+    SplitChoice axis_best[3];
+    int k_best[3] = {0, 0, 0};
     for (int a = 0; a < 3; ++a) {
         const AxisCost cost(a, box, n, config);
         if (!cost.has_area()) return best;
         const uint32_t *lo_bins = bins.at(a, 0), *hi_bins = bins.at(a, 1), *flat = bins.at(a, 2);
-        SplitChoice axis_best;
-        int k_best = 0;
         size_t below = 0, above = n;  // #{lo < b_k}, #{hi > b_k}
         for (int k = 1; k <= planes; ++k) {
             below += lo_bins[k - 1];
@@ -192,21 +214,27 @@ SplitChoice find_binned_split(std::span<const TriBox> items, const Bbox3f& box,
             // The sweep's counts at p: flat triangles in p are on neither side yet.
             const auto consider = [&](size_t cl, size_t cr, bool planar_left) {
                 const double c = cost(p, cl, cr);
-                if (c < axis_best.cost) {
-                    axis_best = {a, p, planar_left, c, cl, cr};
-                    k_best = k;
+                if (c < axis_best[a].cost) {
+                    axis_best[a] = {a, p, planar_left, c, cl, cr};
+                    k_best[a] = k;
                 }
             };
             consider(below + planar, above, true);
             if (planar > 0) consider(below, above + planar, false);
         }
-        if (axis_best.axis >= 0) {
+    }
+    // A refinement scans all the node's triangles, and rarely moves the choice to another axis:
+    // only the axis of the cheapest binned plane is refined (docs/benchmarks.md, "kd-tree build").
+    const double cheapest = std::min({axis_best[0].cost, axis_best[1].cost, axis_best[2].cost});
+    for (int a = 0; a < 3; ++a) {
+        if (axis_best[a].axis >= 0 && axis_best[a].cost == cheapest) {
             // The exact planes between the binned planes around the best one.
-            const SplitChoice near = sweep_between(items, a, axes[a].pos[k_best - 1],
-                                                   axes[a].pos[k_best + 1], cost, events);
-            axis_best = first_cheapest(axis_best, near);
+            const SplitChoice near =
+                sweep_between(items, a, axes[a].pos[k_best[a] - 1], axes[a].pos[k_best[a] + 1],
+                              AxisCost(a, box, n, config), events);
+            axis_best[a] = first_cheapest(axis_best[a], near);
         }
-        best = better(best, axis_best);
+        best = better(best, axis_best[a]);
     }
     return best;
 }
