@@ -5,11 +5,12 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
+#include <cstddef>
 #include <cmath>
-#include <cstdint>
-#include <limits>
 #include <vector>
+
+#include "core/float_step.h"
+#include "simd/simd.h"
 
 namespace rtt::kd {
 namespace {
@@ -18,14 +19,6 @@ constexpr int max_planes = 255;
 
 /// Triangles per task when a large node counts its triangles.
 constexpr size_t grain = 8192;
-
-/// The float before x (x finite; -0 and +0 are one value), without branches.
-float next_down(float x) {
-    const int32_t bits = std::bit_cast<int32_t>(x + 0.f);
-    const int32_t below = bits > 0 ? bits - 1 : bits < 0 ? bits + 1 : int32_t(0x80000001u);
-    return std::bit_cast<float>(below);
-}
-float next_up(float x) { return -next_down(-x); }
 
 /// The planes of one axis. A value's bin is its scaled offset rounded down, and plane k is the
 /// least float whose bin is k: the bin then IS the count of planes <= the value, exactly, with
@@ -39,7 +32,7 @@ struct AxisPlanes {
     /// Number of planes <= x.
     int bin(float x) const { return int(std::clamp((x - lo) * scale, 0.f, float(planes))); }
     /// Number of planes < x.
-    int bin_strict(float x) const { return bin(next_down(x)); }
+    int bin_strict(float x) const { return bin(next_float_down(x)); }
 
     /// Planes strictly inside (lo, hi), about evenly spaced and strictly increasing; false when
     /// the box is too thin along the axis to hold them.
@@ -55,11 +48,11 @@ struct AxisPlanes {
             float p = float(double(box_lo) + (double(box_hi) - double(box_lo)) * k / (planes + 1));
             for (int steps = 0; bin(p) >= k; ++steps) {
                 if (steps == 64 || !(p > box_lo)) return false;
-                p = next_down(p);
+                p = next_float_down(p);
             }
             for (int steps = 0; bin(p) < k; ++steps) {
                 if (steps == 64 || !(p < box_hi)) return false;
-                p = next_up(p);
+                p = next_float_up(p);
             }
             if (!(p > (k == 1 ? box_lo : pos[k - 1]) && p < box_hi)) return false;
             pos[k] = p;
@@ -87,17 +80,58 @@ struct Bins {
     }
 };
 
+/// The bins of a node's triangle bounds, the three axes in SIMD lanes; the lanes compute
+/// exactly AxisPlanes::bin and bin_strict.
+class Binner {
+public:
+    explicit Binner(const AxisPlanes (&axes)[3])
+        : lo_origin_(vfloat4::setr(axes[0].lo, axes[1].lo, axes[2].lo, 0.f)),
+          lo_scale_(vfloat4::setr(axes[0].scale, axes[1].scale, axes[2].scale, 0.f)),
+          // hi is loaded from lo.z on (lanes lo.z, hi.x, hi.y, hi.z): the load stays inside the
+          // TriBox, and no lane reads the triangle index as a float.
+          hi_origin_(vfloat4::setr(0.f, axes[0].lo, axes[1].lo, axes[2].lo)),
+          hi_scale_(vfloat4::setr(0.f, axes[0].scale, axes[1].scale, axes[2].scale)),
+          top_(float(axes[0].planes)) {}
+
+    /// k_lo[a] = planes <= lo[a] (lanes 0-2), k_hi[a + 1] = planes < hi[a] (lanes 1-3).
+    void bins(const TriBox& t, int32_t (&k_lo)[4], int32_t (&k_hi)[4]) const {
+        static_assert(sizeof(Bbox3f) == 6 * sizeof(float) && offsetof(TriBox, box) == 0);
+        const float* box = reinterpret_cast<const float*>(&t.box);
+        const vfloat4 lo = vfloat4::loadu(box), hi = vfloat4::loadu(box + 2);
+        storeu(k_lo, bin(lo, lo_origin_, lo_scale_));
+        storeu(k_hi, bin(float_before(hi), hi_origin_, hi_scale_));
+    }
+
+private:
+    vint4 bin(vfloat4 x, vfloat4 origin, vfloat4 scale) const {
+        return truncate_to_int(min(max((x - origin) * scale, vfloat4(0.f)), top_));
+    }
+    /// next_float_down, lane by lane.
+    static vfloat4 float_before(vfloat4 x) {
+        const vint4 bits = as_int(x + vfloat4(0.f)), zero(0);
+        const vint4 up = select(bits < zero, bits + vint4(1), vint4(int32_t(0x80000001u)));
+        return as_float(select(bits > zero, bits - vint4(1), up));
+    }
+
+    vfloat4 lo_origin_, lo_scale_, hi_origin_, hi_scale_, top_;
+};
+
 void count(std::span<const TriBox> items, const AxisPlanes (&axes)[3], Bins& b) {
-    for (const TriBox& t : items)
+    const Binner binner(axes);
+    uint32_t* lo_bins[3] = {b.at(0, 0), b.at(1, 0), b.at(2, 0)};
+    uint32_t* hi_bins[3] = {b.at(0, 1), b.at(1, 1), b.at(2, 1)};
+    uint32_t* flat_bins[3] = {b.at(0, 2), b.at(1, 2), b.at(2, 2)};
+    for (const TriBox& t : items) {
+        int32_t k_lo[4], k_hi[4];
+        binner.bins(t, k_lo, k_hi);
         for (int a = 0; a < 3; ++a) {
-            const float lo = t.box.lo[a], hi = t.box.hi[a];
-            const int k_lo = axes[a].bin(lo), k_hi = axes[a].bin_strict(hi);
-            ++b.at(a, 0)[k_lo];
-            ++b.at(a, 1)[k_hi];
+            ++lo_bins[a][k_lo[a]];
+            ++hi_bins[a][k_hi[a + 1]];
             // Flat in a plane: lo is a plane's position exactly when the float before it has a
             // lower bin.
-            if (lo == hi && k_hi != k_lo) ++b.at(a, 2)[k_lo];
+            if (t.box.lo[a] == t.box.hi[a] && k_hi[a + 1] != k_lo[a]) ++flat_bins[a][k_lo[a]];
         }
+    }
 }
 
 /// The sweep over the triangle bounds strictly between `from` and `to` on axis `a`, with exact

@@ -18,6 +18,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/float_step.h"
+
 namespace rtt {
 namespace {
 
@@ -52,13 +54,13 @@ int clip_polygon(const Vec3d* in, int n, Vec3d* out, int axis, double plane, dou
 
 float round_down(double x) {
     float f = float(x);
-    if (double(f) > x) f = std::nextafter(f, neg_inf);
+    if (double(f) > x) f = next_float_down(f);
     return f;
 }
 
 float round_up(double x) {
     float f = float(x);
-    if (double(f) < x) f = std::nextafter(f, pos_inf);
+    if (double(f) < x) f = next_float_up(f);
     return f;
 }
 

@@ -141,6 +141,10 @@ RTT_FORCEINLINE vint4 as_int(vfloat4 a) {
 RTT_FORCEINLINE vfloat4 as_float(vint4 a) {
     return _mm_castsi128_ps(a);
 }
+/// Each lane rounded toward zero to an integer (lanes within int32's range).
+RTT_FORCEINLINE vint4 truncate_to_int(vfloat4 a) {
+    return _mm_cvttps_epi32(a);
+}
 
 /// Reads 4 records of 8 floats in two rows of 2, row r at p + r * stride, as 8 vectors: out[f]
 /// lane 2 r + i = p[r * stride + 8 i + f] (two 4x4 transposes, one per half record).
