@@ -303,6 +303,31 @@ TEST(BenchCli, QuickExperimentsOnASceneFileWriteJsonAndPlots) {
     std::filesystem::remove_all(dir);
 }
 
+TEST(BenchCli, BuildTableTimesBothBuildsAndDescribesTheTree) {
+    const std::filesystem::path dir =
+        std::filesystem::temp_directory_path() / ("rtt_bench_build_" + std::to_string(getpid()));
+    const std::string scene = std::string(RTT_TEST_DATA_DIR) + "/../../scenes/example.json";
+    ASSERT_EQ(run_bench_cli("build --quick --scenes '" + scene + "' --json b.json", dir), 0)
+        << read_file(dir / "err.txt");
+    const nlohmann::json j = nlohmann::json::parse(read_file(dir / "b.json"));
+    const nlohmann::json& e = j.at("experiments").at(0);
+    EXPECT_EQ(e.at("id"), "build");
+    const nlohmann::json& builds = e.at("extra").at("builds");
+    ASSERT_FALSE(builds.empty());
+    for (const nlohmann::json& b : builds) {
+        EXPECT_GT(b.at("kdtree_s").get<double>(), 0.0);
+        if (has_tracer("embree")) {
+            EXPECT_GT(b.at("embree_bvh_s").get<double>(), 0.0);
+        }
+    }
+    const std::string out = read_file(dir / "out.txt");
+    EXPECT_NE(out.find("kd SAH cost"), std::string::npos) << out;
+    if (has_tracer("embree")) {
+        EXPECT_NE(out.find("of Embree's BVH build"), std::string::npos) << out;
+    }
+    std::filesystem::remove_all(dir);
+}
+
 TEST(BenchCli, BadInputIsOneLineAndNonZero) {
     const std::filesystem::path dir =
         std::filesystem::temp_directory_path() / ("rtt_bench_bad_" + std::to_string(getpid()));

@@ -271,8 +271,11 @@ void add_bench_command(CLI::App& app) {
         {"embree",
          "Embree beside packet, packet16 and rtt at 1024x768, K=1 and 4, 1 thread and all cores",
          {bench::run_embree}},
+        {"build",
+         "kd-tree build beside Embree's BVH build, 1 thread and all cores (also in embree)",
+         {bench::run_build}},
         {"all",
-         "Everything above, in that order",
+         "Everything above except build, in that order",
          {bench::run_table1, bench::run_fig7, bench::run_fig8, bench::run_hq, bench::run_fig5,
           bench::run_embree}},
     };

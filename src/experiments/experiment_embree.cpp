@@ -15,32 +15,6 @@ using namespace detail;
 
 namespace {
 
-double median_of(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty()      ? 0.0
-           : v.size() % 2 ? v[v.size() / 2]
-                          : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
-
-/// Median build seconds of our kd-tree and of Embree's BVH with `threads` oneTBB threads. The
-/// scene's own kd-tree was built on all cores when it was loaded: with all cores that build is
-/// the first sample (a large scene's build takes seconds; no need to repeat it needlessly).
-std::pair<double, double> build_seconds(const BenchScene& scene, int threads, int repetitions) {
-    std::vector<double> kd, bvh;
-    if (threads == tbb::info::default_concurrency()) kd.push_back(scene.tree.stats.build_seconds);
-    tbb::task_arena arena(threads);
-    arena.execute([&] {
-        for (int r = 0; r < repetitions; ++r) {
-            if (int(kd.size()) < repetitions)
-                kd.push_back(build_kdtree(scene.scene).stats.build_seconds);
-            if (has_tracer("embree"))
-                bvh.push_back(
-                    embree_build_seconds(*make_tracer("embree", scene.scene, scene.tree)));
-        }
-    });
-    return {median_of(kd), bvh.empty() ? -1.0 : median_of(bvh)};
-}
-
 TextTable throughput_table(const std::vector<Measurement>& ms,
                            const std::vector<std::string>& kinds, int threads, bool shadow,
                            ClockKind clock, int repetitions) {
@@ -104,34 +78,7 @@ ExperimentResult run_embree(const BenchConfig& config, SceneCache& scenes) {
             r.tables.push_back(t);
         }
 
-    TextTable builds;
-    builds.title = "Build seconds (wall, median of " + std::to_string(config.repetitions) +
-                   "): our SAH kd-tree vs Embree's BVH (quality HIGH)";
-    // Quick mode times the first scene's builds only (a 1-thread kd-tree of plants takes ~10 s).
-    const std::vector<std::string> build_scenes =
-        config.quick() ? std::vector<std::string>(config.scenes.begin(), config.scenes.begin() + 1)
-                       : config.scenes;
-    builds.header = {"scene", "triangles"};
-    for (int threads : thread_counts) {
-        builds.header.push_back("kd-tree, " + std::to_string(threads) + "t");
-        builds.header.push_back("Embree BVH, " + std::to_string(threads) + "t");
-    }
-    nlohmann::json build_json = nlohmann::json::array();
-    for (const std::string& name : build_scenes) {
-        const BenchScene& scene = scenes.get(name);
-        std::vector<std::string> row{name, format_count(scene.scene.triangle_count())};
-        for (int threads : thread_counts) {
-            const auto [kd, bvh] = build_seconds(scene, threads, config.repetitions);
-            row.push_back(format_fixed(kd, 3));
-            row.push_back(bvh >= 0 ? format_fixed(bvh, 3) : "-");
-            build_json.push_back(
-                {{"scene", name}, {"threads", threads}, {"kdtree_s", kd}, {"embree_bvh_s", bvh}});
-        }
-        builds.rows.push_back(row);
-    }
-    print_table(config.log, builds);
-    r.tables.push_back(builds);
-    r.extra = {{"builds", build_json}};
+    add_build_table(config, scenes, r);
 
     // Where rtt stands against Embree's coherent packets (the project's ambition, issue 6:
     // faster on primary and shadow rays of room and office).

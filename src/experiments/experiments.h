@@ -8,6 +8,7 @@
 //   fig5    Figure 5: office rendered, and its RTT maps for primary and shadow rays.
 //   embree  packet, packet16, rtt and Embree at 1024x768, K = 1 and 4, 1 thread and all cores;
 //           kd-tree and BVH build times.
+//   build   the kd-tree and BVH build times alone (not part of `all`: `embree` has them).
 // Sizes by mode: --quick keeps every experiment's shape with tiny images and one repetition
 // (a smoke test); the default full mode runs the paper's sizes except where a configuration
 // would not fit in 10-15 minutes on a 2-core machine (Figure 7 at 320x240, Embree's K = 4
@@ -88,6 +89,10 @@ ExperimentResult run_fig8(const BenchConfig& config, SceneCache& scenes);
 ExperimentResult run_hq(const BenchConfig& config, SceneCache& scenes);
 ExperimentResult run_fig5(const BenchConfig& config, SceneCache& scenes);
 ExperimentResult run_embree(const BenchConfig& config, SceneCache& scenes);
+ExperimentResult run_build(const BenchConfig& config, SceneCache& scenes);
+
+/// Appends the kd-tree and Embree build table (run_build's) to `r`.
+void add_build_table(const BenchConfig& config, SceneCache& scenes, ExperimentResult& r);
 
 /// Every figure of a result (tables, measurements, files, findings, extra).
 nlohmann::json experiment_json(const ExperimentResult& result);
