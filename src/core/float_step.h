@@ -17,4 +17,14 @@ inline float next_float_down(float x) {
 /// The smallest float above x (x finite).
 inline float next_float_up(float x) { return -next_float_down(-x); }
 
+/// An unsigned key in the order of the floats (x finite; -0 and +0 are one key), so that the
+/// floats between two can be bisected; float_from_order_key inverts it.
+inline uint32_t float_order_key(float x) {
+    const uint32_t bits = std::bit_cast<uint32_t>(x + 0.f);
+    return bits & 0x80000000u ? ~bits : bits | 0x80000000u;
+}
+inline float float_from_order_key(uint32_t key) {
+    return std::bit_cast<float>(key & 0x80000000u ? key & 0x7fffffffu : ~key);
+}
+
 }  // namespace rtt

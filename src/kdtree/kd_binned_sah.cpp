@@ -40,24 +40,42 @@ struct AxisPlanes {
         planes = k_planes;
         lo = box_lo;
         scale = float(planes + 1) / (box_hi - box_lo);
-        if (!std::isfinite(scale) || !(scale > 0.f)) return false;
+        if (!std::isfinite(scale) || !(scale > 0.f) || bin(box_hi) < planes) return false;
         pos[0] = neg_inf;
         pos[planes + 1] = pos_inf;
         for (int k = 1; k <= planes; ++k) {
-            // From the even spacing, the few floats to the least one of bin k.
-            float p = float(double(box_lo) + (double(box_hi) - double(box_lo)) * k / (planes + 1));
-            for (int steps = 0; bin(p) >= k; ++steps) {
-                if (steps == 64 || !(p > box_lo)) return false;
-                p = next_float_down(p);
-            }
-            for (int steps = 0; bin(p) < k; ++steps) {
-                if (steps == 64 || !(p < box_hi)) return false;
-                p = next_float_up(p);
-            }
-            if (!(p > (k == 1 ? box_lo : pos[k - 1]) && p < box_hi)) return false;
-            pos[k] = p;
+            const float even =
+                float(double(box_lo) + (double(box_hi) - double(box_lo)) * k / (planes + 1));
+            pos[k] = least_of_bin(k, std::clamp(even, box_lo, box_hi), box_lo, box_hi);
+            if (!(pos[k] > (k == 1 ? box_lo : pos[k - 1]) && pos[k] < box_hi)) return false;
         }
         return true;
+    }
+
+private:
+    /// The least float in (box_lo, box_hi] of bin >= k (0 < k <= bin(box_hi)), searched from
+    /// `guess`: a few floats away, except near 0, where floats are dense and a bin spans
+    /// millions of them; so the search gallops, then bisects (in the floats' order).
+    float least_of_bin(int k, float guess, float box_lo, float box_hi) const {
+        const auto in_bin = [&](uint32_t key) { return bin(float_from_order_key(key)) >= k; };
+        const uint32_t first = float_order_key(box_lo), last = float_order_key(box_hi);
+        uint32_t below = float_order_key(guess), above = below;  // bin < k at below, >= k above
+        if (in_bin(above)) {
+            for (uint64_t step = 1; below > first && in_bin(below); step *= 2) {
+                above = below;
+                below = below - first > step ? below - step : first;
+            }
+        } else {
+            for (uint64_t step = 1; !in_bin(above); step *= 2) {
+                below = above;
+                above = last - above > step ? above + step : last;
+            }
+        }
+        while (above - below > 1) {
+            const uint32_t middle = below + (above - below) / 2;
+            (in_bin(middle) ? above : below) = middle;
+        }
+        return float_from_order_key(above);
     }
 };
 
