@@ -1,12 +1,21 @@
 #include "geom/triangle.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 namespace rtt {
 
 std::vector<TriangleVerts> gather_triangles(const Scene& scene) {
-    std::vector<TriangleVerts> out;
-    out.reserve(scene.triangles.size());
-    for (const TriangleIndices& t : scene.triangles)
-        out.push_back({scene.vertices[t[0]], scene.vertices[t[1]], scene.vertices[t[2]]});
+    std::vector<TriangleVerts> out(scene.triangles.size());
+    // In parallel: on a second core it is ~5 % of a kd-tree build.
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, out.size(), 16384),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                          for (size_t i = r.begin(); i < r.end(); ++i) {
+                              const TriangleIndices& t = scene.triangles[i];
+                              out[i] = {scene.vertices[t[0]], scene.vertices[t[1]],
+                                        scene.vertices[t[2]]};
+                          }
+                      });
     return out;
 }
 

@@ -14,6 +14,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
+#include <tbb/parallel_reduce.h>
 #include <tbb/partitioner.h>
 
 #include <algorithm>
@@ -259,12 +260,19 @@ KdTree build_kdtree(const Scene& scene, const KdBuildConfig& config) {
 
     KdTree tree;
     std::vector<TriBox> items(n);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain),
-                      [&](const tbb::blocked_range<size_t>& r) {
-                          for (size_t i = r.begin(); i < r.end(); ++i)
-                              items[i] = {triangle_bounds(triangles[i]), uint32_t(i)};
-                      });
-    for (const TriBox& t : items) tree.bounds.extend(t.box);
+    tree.bounds = tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(0, n, grain), Bbox3f{},
+        [&](const tbb::blocked_range<size_t>& r, Bbox3f bounds) {
+            for (size_t i = r.begin(); i < r.end(); ++i) {
+                items[i] = {triangle_bounds(triangles[i]), uint32_t(i)};
+                bounds.extend(items[i].box);
+            }
+            return bounds;
+        },
+        [](Bbox3f a, const Bbox3f& b) {
+            a.extend(b);
+            return a;
+        });
     const auto setup_done = Clock::now();
 
     const int max_depth = config.max_depth > 0 ? config.max_depth : auto_max_depth(n);
