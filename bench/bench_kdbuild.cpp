@@ -1,6 +1,8 @@
 // SAH kd-tree build time (binned and refined levels, exact small-node search below) on
-// generated meshes of 10k, 100k and 1M triangles: a tessellated bumpy sphere and a soup of small
-// random triangles, with one thread and with all of them (oneTBB; the tree is the same either way).
+// generated meshes of 10k, 100k, 1M and 4M triangles: a tessellated bumpy sphere and a soup of
+// small random triangles, with one thread and with all of them (oneTBB; the tree is the same
+// either way); and Embree's BVH build (quality HIGH) on the same meshes, as `rtt bench build`
+// times it, when this build has Embree.
 //
 //   bench_kdbuild [--help] [Google Benchmark flags, e.g. --benchmark_filter=threads:1]
 //
@@ -14,14 +16,18 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
 #include <string>
+#include <vector>
 
 #include "kd_bench_meshes.h"
 #include "rtt/kdtree.h"
+#include "rtt/tracer.h"
+#include "trace/trace_embree.h"
 
 namespace rtt {
 namespace {
@@ -65,17 +71,38 @@ void kd_build(benchmark::State& state) {
     state.counters["cpu_ns/NlogN"] = cpu_per_build * 1e9 / (tris * std::log2(tris));
 }
 
+/// Embree's BVH build (rtcCommitScene alone) on the same mesh and threads.
+void embree_build(benchmark::State& state) {
+    const auto kind = MeshKind(state.range(0));
+    const auto n = size_t(state.range(1));
+    const int threads = int(state.range(2));
+    const Scene scene = kind == sphere ? kdbench::bumpy_sphere_of(n) : kdbench::triangle_soup(n);
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                              threads > 0 ? size_t(threads) : size_t(tbb::info::default_concurrency()));
+    const KdTree unused;  // Embree builds its own BVH
+    double seconds = 0;
+    for (auto _ : state) seconds += embree_build_seconds(*make_tracer("embree", scene, unused));
+    state.SetLabel(std::string(kind == sphere ? "bumpy sphere" : "triangle soup") +
+                   (threads > 0 ? ", 1 thread" : ", all threads"));
+    state.counters["tris"] = double(scene.triangle_count());
+    state.counters["build_s"] = seconds / double(state.iterations());
+}
+
 void sizes(benchmark::internal::Benchmark* b) {
     for (int kind : {sphere, soup})
-        for (int threads : {1, 0}) {
-            b->Args({kind, 10'000, threads});
-            b->Args({kind, 100'000, threads});
-            b->Args({kind, 1'000'000, threads});
-        }
+        for (int threads : {1, 0})
+            for (int n : {10'000, 100'000, 1'000'000, 4'000'000}) b->Args({kind, n, threads});
     b->ArgNames({"mesh", "tris", "threads"});
     b->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 }
 BENCHMARK(kd_build)->Apply(sizes);
+
+[[maybe_unused]] const bool embree_registered = [] {
+    const std::vector<std::string> kinds = tracer_kinds();
+    if (std::find(kinds.begin(), kinds.end(), "embree") != kinds.end())
+        benchmark::RegisterBenchmark("embree_build", embree_build)->Apply(sizes);
+    return true;
+}();
 
 }  // namespace
 }  // namespace rtt
@@ -85,9 +112,10 @@ int main(int argc, char** argv) {
         if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
             std::printf(
                 "bench_kdbuild: SAH kd-tree build time on a bumpy sphere and a triangle soup of\n"
-                "10k, 100k and 1M triangles, 1 thread and all threads (mesh: 0 = sphere,\n"
-                "1 = soup; threads: 0 = all). Counters give the tree's statistics, the process\n"
-                "CPU time per build (cpu_s) and cpu_ns/NlogN = cpu_s / (N log2 N).\n"
+                "10k, 100k, 1M and 4M triangles, 1 thread and all threads (mesh: 0 = sphere,\n"
+                "1 = soup; threads: 0 = all), and Embree's BVH build on the same meshes\n"
+                "(embree_build, when Embree is built in). Counters give the tree's statistics,\n"
+                "the process CPU time per build (cpu_s) and cpu_ns/NlogN = cpu_s / (N log2 N).\n"
                 "Google Benchmark flags (--benchmark_filter=..., --benchmark_repetitions=N) apply.\n");
             return 0;
         }
