@@ -32,6 +32,15 @@ struct Vec3d {
 /// cannot break this by much; past half the buffer we stop clipping (still conservative).
 constexpr int max_vertices = 32;
 
+/// The point of segment pq at x[axis] = plane (p and q on either side).
+Vec3d crossing(const Vec3d& p, const Vec3d& q, int axis, double plane) {
+    const double t = std::clamp((plane - p.c[axis]) / (q.c[axis] - p.c[axis]), 0.0, 1.0);
+    Vec3d r;
+    for (int a = 0; a < 3; ++a) r.c[a] = p.c[a] + t * (q.c[a] - p.c[a]);
+    r.c[axis] = plane;
+    return r;
+}
+
 /// Keeps the part of the closed polygon `in` with sign * (x[axis] - plane) >= 0.
 int clip_polygon(const Vec3d* in, int n, Vec3d* out, int axis, double plane, double sign) {
     int m = 0;
@@ -41,13 +50,7 @@ int clip_polygon(const Vec3d* in, int n, Vec3d* out, int axis, double plane, dou
         const bool p_in = sign * (p.c[axis] - plane) >= 0.0;
         const bool q_in = sign * (q.c[axis] - plane) >= 0.0;
         if (p_in) out[m++] = p;
-        if (p_in != q_in) {
-            const double t = std::clamp((plane - p.c[axis]) / (q.c[axis] - p.c[axis]), 0.0, 1.0);
-            Vec3d r;
-            for (int a = 0; a < 3; ++a) r.c[a] = p.c[a] + t * (q.c[a] - p.c[a]);
-            r.c[axis] = plane;
-            out[m++] = r;
-        }
+        if (p_in != q_in) out[m++] = crossing(p, q, axis, plane);
     }
     return m;
 }
@@ -99,23 +102,31 @@ double margin(const Bbox3f& tb, const Bbox3f& box) {
     return double(magnitude) * 0x1p-36;  // exact, as ldexp, without the call
 }
 
-/// Bounds of the clipped polygon `v` (n > 0), widened by e, rounded outward and intersected
-/// with the exact bounds(T) ∩ box.
-Bbox3f polygon_bounds(const Vec3d* v, int n, double e, const Bbox3f& exact) {
+/// Bounds lo..hi of clipped points, widened by e, rounded outward and intersected with the
+/// exact bounds(T) ∩ box.
+Bbox3f rounded_bounds(const double (&lo)[3], const double (&hi)[3], double e, const Bbox3f& exact) {
     Bbox3f out;
     for (int a = 0; a < 3; ++a) {
-        double lo = v[0].c[a], hi = lo;
-        for (int i = 1; i < n; ++i) {
-            lo = std::min(lo, v[i].c[a]);
-            hi = std::max(hi, v[i].c[a]);
-        }
-        const float flo = std::max(round_down(lo - e), exact.lo[a]);
-        const float fhi = std::min(round_up(hi + e), exact.hi[a]);
+        const float flo = std::max(round_down(lo[a] - e), exact.lo[a]);
+        const float fhi = std::min(round_up(hi[a] + e), exact.hi[a]);
         // Cannot happen with the bounds above; if it did, fall back to the exact outer bounds.
         out.lo[a] = flo <= fhi ? flo : exact.lo[a];
         out.hi[a] = flo <= fhi ? fhi : exact.hi[a];
     }
     return out;
+}
+
+/// Bounds of the clipped polygon `v` (n > 0), as rounded_bounds.
+Bbox3f polygon_bounds(const Vec3d* v, int n, double e, const Bbox3f& exact) {
+    double lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = v[0].c[a], hi[a] = lo[a];
+        for (int i = 1; i < n; ++i) {
+            lo[a] = std::min(lo[a], v[i].c[a]);
+            hi[a] = std::max(hi[a], v[i].c[a]);
+        }
+    }
+    return rounded_bounds(lo, hi, e, exact);
 }
 
 bool inside(const Bbox3f& tb, const Bbox3f& box) {
@@ -154,25 +165,46 @@ ClippedSides clip_triangle_to_children(const TriangleVerts& tri, const Bbox3f& b
     const double e = margin(tb, box);
     Polygon poly(tri);
     if (!inside(tb, box)) poly.clip_to(box, tb, e);
-    if (poly.n == 0) return sides;
-    // Each side from the polygon clipped to the box: the clipping to the box's own planes is
-    // done once for both.
-    Vec3d side[max_vertices];
-    const auto clip_side = [&](bool crosses, double plane, double sign, const Bbox3f& exact,
-                               Bbox3f& out) {
-        if (exact.empty()) return false;
-        const Vec3d* v = poly.vertices();
-        int n = poly.n;
-        if (crosses && n <= max_vertices / 2) {
-            n = clip_polygon(v, n, side, axis, plane, sign);
-            v = side;
+    if (poly.n == 0 || poly.n > max_vertices / 2) {
+        // No vertices, or (never in practice) too many to clip further: bounds of what is left.
+        sides.left = poly.n > 0 && !exact_left.empty();
+        sides.right = poly.n > 0 && !exact_right.empty();
+        if (sides.left) sides.left_box = polygon_bounds(poly.vertices(), poly.n, e, exact_left);
+        if (sides.right) sides.right_box = polygon_bounds(poly.vertices(), poly.n, e, exact_right);
+        return sides;
+    }
+    // Both sides in one pass over the polygon's edges, the side polygons never built: the
+    // vertices clip_polygon would keep or make (the same arithmetic) extend each side's bounds.
+    // Left keeps x <= pos + e, right x >= pos - e (the planes moved outward, as above).
+    const double plane[2] = {double(pos) + e, double(pos) - e};
+    double lo[2][3], hi[2][3];
+    for (int s = 0; s < 2; ++s)
+        for (int a = 0; a < 3; ++a) lo[s][a] = pos_inf, hi[s][a] = neg_inf;
+    const auto extend = [&](int s, const Vec3d& p) {
+        for (int a = 0; a < 3; ++a) {
+            lo[s][a] = std::min(lo[s][a], p.c[a]);
+            hi[s][a] = std::max(hi[s][a], p.c[a]);
         }
-        if (n == 0) return false;
-        out = polygon_bounds(v, n, e, exact);
+    };
+    const Vec3d* v = poly.vertices();
+    for (int i = 0; i < poly.n; ++i) {
+        const Vec3d& p = v[i];
+        const Vec3d& q = v[i + 1 == poly.n ? 0 : i + 1];
+        for (int s = 0; s < 2; ++s) {
+            const double sign = s == 0 ? -1.0 : 1.0;
+            const bool p_in = sign * (p.c[axis] - plane[s]) >= 0.0;
+            const bool q_in = sign * (q.c[axis] - plane[s]) >= 0.0;
+            if (p_in) extend(s, p);
+            if (p_in != q_in) extend(s, crossing(p, q, axis, plane[s]));
+        }
+    }
+    const auto finish = [&](int s, const Bbox3f& exact, Bbox3f& out) {
+        if (exact.empty() || !(lo[s][0] <= hi[s][0])) return false;
+        out = rounded_bounds(lo[s], hi[s], e, exact);
         return true;
     };
-    sides.left = clip_side(tb.hi[axis] > pos, double(pos) + e, -1.0, exact_left, sides.left_box);
-    sides.right = clip_side(tb.lo[axis] < pos, double(pos) - e, 1.0, exact_right, sides.right_box);
+    sides.left = finish(0, exact_left, sides.left_box);
+    sides.right = finish(1, exact_right, sides.right_box);
     return sides;
 }
 
