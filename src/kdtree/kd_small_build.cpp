@@ -46,16 +46,17 @@ SplitChoice find_small_split(std::span<const TriBox> items, const Bbox3f& box,
         const size_t padded = (m + lanes - 1) / lanes * lanes;
         for (size_t c = m; c < padded; ++c) cand[c] = cand[0];
         // below: lo < p, above: hi > p, planar: flat in p (the sweep's counts at p; `flat` is NaN
-        // where a triangle is not flat, so that one comparison counts it).
+        // where a triangle is not flat, so that one comparison counts it). Written as selects,
+        // the increments become masked adds with AVX-512.
         for (size_t c0 = 0; c0 < padded; c0 += lanes) {
             uint32_t b[lanes] = {}, ab[lanes] = {}, pl[lanes] = {};
             for (size_t j = 0; j < n; ++j) {
                 const float l = lo[j], h = hi[j], f = flat[j];
                 for (size_t k = 0; k < lanes; ++k) {
                     const float p = cand[c0 + k];
-                    b[k] += l < p;
-                    ab[k] += h > p;
-                    pl[k] += f == p;
+                    b[k] = l < p ? b[k] + 1 : b[k];
+                    ab[k] = h > p ? ab[k] + 1 : ab[k];
+                    pl[k] = f == p ? pl[k] + 1 : pl[k];
                 }
             }
             for (size_t k = 0; k < lanes; ++k) {
@@ -124,6 +125,7 @@ SplitChoice find_small_split(std::span<const TriBox> items, const Bbox3f& box,
                  near_bits != 0; near_bits &= near_bits - 1) {
                 const size_t c = c0 + size_t(std::countr_zero(near_bits));
                 const float p = cand[c];
+                if (axis_best.axis == a && p == axis_best.pos) continue;  // same plane, same counts
                 const double b = below[c], ab = above[c], fl = planar[c];
                 const double l = exact_cost(p, b + fl, ab);
                 const double r = fl > 0.0 ? exact_cost(p, b, ab + fl) : pos_inf;
