@@ -17,6 +17,34 @@ namespace {
 constexpr size_t lanes = 16;
 constexpr size_t max_candidates = 2 * small_max_triangles;
 
+/// The sweep's counts at each candidate p (padded to whole blocks of lanes): below, lo < p;
+/// above, hi > p; planar, flat == p (`flat` is NaN where a triangle is not flat, so that one
+/// comparison counts it), only where the node has flat triangles: most have none on an axis.
+/// Written as selects, the increments become masked adds with AVX-512.
+template <bool count_planar>
+void count_sides(const float* lo, const float* hi, const float* flat, size_t n, const float* cand,
+                 size_t padded, uint32_t* below, uint32_t* above, uint32_t* planar) {
+    for (size_t c0 = 0; c0 < padded; c0 += lanes) {
+        uint32_t b[lanes] = {}, ab[lanes] = {}, pl[lanes] = {};
+        for (size_t j = 0; j < n; ++j) {
+            const float l = lo[j], h = hi[j], f = flat[j];
+            // Without the planar count GCC 12 would unroll this loop fully and not vectorise it.
+#pragma GCC unroll 1
+            for (size_t k = 0; k < lanes; ++k) {
+                const float p = cand[c0 + k];
+                b[k] = l < p ? b[k] + 1 : b[k];
+                ab[k] = h > p ? ab[k] + 1 : ab[k];
+                if constexpr (count_planar) pl[k] = f == p ? pl[k] + 1 : pl[k];
+            }
+        }
+        for (size_t k = 0; k < lanes; ++k) {
+            below[c0 + k] = b[k];
+            above[c0 + k] = ab[k];
+            planar[c0 + k] = pl[k];
+        }
+    }
+}
+
 }  // namespace
 
 SplitChoice find_small_split(std::span<const TriBox> items, const Bbox3f& box,
@@ -35,36 +63,21 @@ SplitChoice find_small_split(std::span<const TriBox> items, const Bbox3f& box,
     alignas(64) uint32_t below[max_candidates], above[max_candidates], planar[max_candidates];
     constexpr float nan = std::numeric_limits<float>::quiet_NaN();
     for (int a = 0; a < 3; ++a) {
-        size_t m = 0;
+        size_t m = 0, flats = 0;
         for (size_t i = 0; i < n; ++i) {
             lo[i] = items[i].box.lo[a] + 0.f;  // + 0: -0 becomes 0, as in the events
             hi[i] = items[i].box.hi[a] + 0.f;
             cand[m++] = lo[i];
             if (hi[i] != lo[i]) cand[m++] = hi[i];  // a flat triangle has one event
             flat[i] = hi[i] == lo[i] ? lo[i] : nan;
+            flats += hi[i] == lo[i];
         }
         const size_t padded = (m + lanes - 1) / lanes * lanes;
         for (size_t c = m; c < padded; ++c) cand[c] = cand[0];
-        // below: lo < p, above: hi > p, planar: flat in p (the sweep's counts at p; `flat` is NaN
-        // where a triangle is not flat, so that one comparison counts it). Written as selects,
-        // the increments become masked adds with AVX-512.
-        for (size_t c0 = 0; c0 < padded; c0 += lanes) {
-            uint32_t b[lanes] = {}, ab[lanes] = {}, pl[lanes] = {};
-            for (size_t j = 0; j < n; ++j) {
-                const float l = lo[j], h = hi[j], f = flat[j];
-                for (size_t k = 0; k < lanes; ++k) {
-                    const float p = cand[c0 + k];
-                    b[k] = l < p ? b[k] + 1 : b[k];
-                    ab[k] = h > p ? ab[k] + 1 : ab[k];
-                    pl[k] = f == p ? pl[k] + 1 : pl[k];
-                }
-            }
-            for (size_t k = 0; k < lanes; ++k) {
-                below[c0 + k] = b[k];
-                above[c0 + k] = ab[k];
-                planar[c0 + k] = pl[k];
-            }
-        }
+        if (flats > 0)
+            count_sides<true>(lo, hi, flat, n, cand, padded, below, above, planar);
+        else
+            count_sides<false>(lo, hi, flat, n, cand, padded, below, above, planar);
         // AxisCost's formula, exactly (double) for the few candidates that can be the cheapest.
         const double box_lo = box.lo[a], box_hi = box.hi[a];
         const double d1 = diag[(a + 1) % 3], d2 = diag[(a + 2) % 3];
