@@ -99,8 +99,6 @@ SplitChoice find_small_split(std::span<const TriBox> items, const Bbox3f& box,
         const float cap_f = float(cap * inv_area), perimeter_f = float(perimeter_ratio);
         const float lo_f = box.lo[a], hi_f = box.hi[a], n_f = float(n);
         const float trav_f = float(trav), isect_f = float(isect), bonus_f = float(bonus);
-        float lane_min[lanes];
-        for (size_t k = 0; k < lanes; ++k) lane_min[k] = pos_inf;
         for (size_t c0 = 0; c0 < padded; c0 += lanes)
             for (size_t k = 0; k < lanes; ++k) {
                 const size_t c = c0 + k;
@@ -120,10 +118,12 @@ SplitChoice find_small_split(std::span<const TriBox> items, const Bbox3f& box,
                 const float r = fl > 0.f ? right : pos_inf;
                 const float lr = r < l ? r : l;
                 approx[c] = lr;
-                lane_min[k] = lr < lane_min[k] ? lr : lane_min[k];
             }
-        float approx_min = pos_inf;
-        for (float v : lane_min) approx_min = v < approx_min ? v : approx_min;
+        using vfloat_max = vfloat<simd_max_width>;
+        vfloat_max lane_min = pos_inf;
+        for (size_t c0 = 0; c0 < padded; c0 += simd_max_width)
+            lane_min = min(lane_min, vfloat_max::load(approx + c0));
+        const float approx_min = reduce_min(lane_min)[0];
         if (approx_holds && approx_min == pos_inf) continue;  // no split makes progress
         const float near = approx_min * 1.0001f;
         const uint32_t all_lanes = approx_holds ? 0u : (1u << simd_max_width) - 1u;
@@ -131,7 +131,6 @@ SplitChoice find_small_split(std::span<const TriBox> items, const Bbox3f& box,
         // The sweep's choice among them: it visits planes in increasing order, planar triangles
         // left first, and keeps the first cheapest.
         SplitChoice axis_best;
-        using vfloat_max = vfloat<simd_max_width>;
         for (size_t c0 = 0; c0 < padded; c0 += simd_max_width)
             for (uint32_t near_bits =
                      movemask(vfloat_max::load(approx + c0) <= vfloat_max(near)) | all_lanes;
