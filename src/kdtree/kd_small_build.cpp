@@ -67,10 +67,11 @@ SplitChoice find_small_split(std::span<const TriBox> items, const Bbox3f& box,
         for (size_t i = 0; i < n; ++i) {
             lo[i] = items[i].box.lo[a] + 0.f;  // + 0: -0 becomes 0, as in the events
             hi[i] = items[i].box.hi[a] + 0.f;
+            const bool is_flat = hi[i] == lo[i];  // a flat triangle has one event
             cand[m++] = lo[i];
-            if (hi[i] != lo[i]) cand[m++] = hi[i];  // a flat triangle has one event
-            flat[i] = hi[i] == lo[i] ? lo[i] : nan;
-            flats += hi[i] == lo[i];
+            if (!is_flat) cand[m++] = hi[i];
+            flat[i] = is_flat ? lo[i] : nan;
+            flats += is_flat;
         }
         const size_t padded = (m + lanes - 1) / lanes * lanes;
         for (size_t c = m; c < padded; ++c) cand[c] = cand[0];
@@ -143,12 +144,7 @@ SplitChoice find_small_split(std::span<const TriBox> items, const Bbox3f& box,
                 const double r = fl > 0.0 ? exact_cost(p, b, ab + fl) : pos_inf;
                 const bool planar_left = l <= r;
                 const double cost = planar_left ? l : r;
-                const bool first =
-                    cost < axis_best.cost ||
-                    (cost == axis_best.cost &&
-                     (p < axis_best.pos ||
-                      (p == axis_best.pos && planar_left && !axis_best.planar_left)));
-                if (first)
+                if (cost < axis_best.cost || (cost == axis_best.cost && p < axis_best.pos))
                     axis_best = {a,
                                  p,
                                  planar_left,
