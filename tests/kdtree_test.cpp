@@ -622,17 +622,27 @@ TEST(KdBinnedSah, CountsAtTheChosenPlaneAreExactAndNoBinnedPlaneIsCheaper) {
 }
 
 TEST(KdSmallSplit, MatchesTheExactSweep) {
-    // The small nodes' direct counts must choose what the sorted sweep over every bound chooses.
+    // The small nodes' direct counts must choose what the sorted sweep over every bound chooses:
+    // on random bounds, on bounds snapped to a coarse grid (equal planes and costs, bounds in
+    // the node's faces), and with a traversal cost too small for the float pre-selection.
     const Bbox3f box{{-1, -1, -1}, {1, 1, 1}};
-    const KdBuildConfig config;
+    KdBuildConfig tiny_costs;
+    tiny_costs.trav_cost = 1e-41f;
+    tiny_costs.isect_cost = 1e-42f;
     std::mt19937 rng(22);
     std::uniform_real_distribution<float> pos(-1.f, 1.f);
-    for (int round = 0; round < 300; ++round) {
+    for (int round = 0; round < 900; ++round) {
+        const KdBuildConfig config = round % 3 == 2 ? tiny_costs : KdBuildConfig{};
+        const bool snapped = round % 3 == 1;
         std::vector<kd::TriBox> items(1 + size_t(round) % kd::small_max_triangles);
         for (size_t i = 0; i < items.size(); ++i) {
             items[i].tri = uint32_t(i);
             for (int a = 0; a < 3; ++a) {
                 float lo = pos(rng), hi = i % 4 == 0 ? lo : pos(rng);
+                if (snapped) {
+                    lo = std::round(lo * 2.f) / 2.f;
+                    hi = std::round(hi * 2.f) / 2.f;
+                }
                 if (hi < lo) std::swap(lo, hi);
                 items[i].box.lo[a] = lo;
                 items[i].box.hi[a] = hi;

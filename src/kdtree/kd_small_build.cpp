@@ -1,10 +1,13 @@
 #include "kdtree/kd_small_build.h"
 
 #include <algorithm>
+#include <bit>
 #include <cstdint>
+#include <limits>
 #include <new>
 
 #include "kdtree/kd_clip.h"
+#include "simd/simd.h"
 
 namespace rtt::kd {
 
@@ -13,6 +16,34 @@ namespace {
 /// Candidate planes counted at once, one per SIMD lane.
 constexpr size_t lanes = 16;
 constexpr size_t max_candidates = 2 * small_max_triangles;
+
+/// The sweep's counts at each candidate p (padded to whole blocks of lanes): below, lo < p;
+/// above, hi > p; planar, flat == p (`flat` is NaN where a triangle is not flat, so that one
+/// comparison counts it), only where the node has flat triangles: most have none on an axis.
+/// Written as selects, the increments become masked adds with AVX-512.
+template <bool count_planar>
+void count_sides(const float* lo, const float* hi, const float* flat, size_t n, const float* cand,
+                 size_t padded, uint32_t* below, uint32_t* above, uint32_t* planar) {
+    for (size_t c0 = 0; c0 < padded; c0 += lanes) {
+        uint32_t b[lanes] = {}, ab[lanes] = {}, pl[lanes] = {};
+        for (size_t j = 0; j < n; ++j) {
+            const float l = lo[j], h = hi[j], f = flat[j];
+            // Without the planar count GCC 12 would unroll this loop fully and not vectorise it.
+#pragma GCC unroll 1
+            for (size_t k = 0; k < lanes; ++k) {
+                const float p = cand[c0 + k];
+                b[k] = l < p ? b[k] + 1 : b[k];
+                ab[k] = h > p ? ab[k] + 1 : ab[k];
+                if constexpr (count_planar) pl[k] = f == p ? pl[k] + 1 : pl[k];
+            }
+        }
+        for (size_t k = 0; k < lanes; ++k) {
+            below[c0 + k] = b[k];
+            above[c0 + k] = ab[k];
+            planar[c0 + k] = pl[k];
+        }
+    }
+}
 
 }  // namespace
 
@@ -27,103 +58,100 @@ SplitChoice find_small_split(std::span<const TriBox> items, const Bbox3f& box,
     const double trav = config.trav_cost, isect = config.isect_cost;
 
     // Structure of arrays, candidates in lanes, so that the loops below vectorise.
-    alignas(64) float lo[small_max_triangles], hi[small_max_triangles], cand[max_candidates];
+    alignas(64) float lo[small_max_triangles], hi[small_max_triangles], flat[small_max_triangles];
+    alignas(64) float cand[max_candidates], approx[max_candidates];
     alignas(64) uint32_t below[max_candidates], above[max_candidates], planar[max_candidates];
-    alignas(64) double cost_left[max_candidates], cost_right[max_candidates];
+    constexpr float nan = std::numeric_limits<float>::quiet_NaN();
     for (int a = 0; a < 3; ++a) {
-        size_t m = 0;
+        size_t m = 0, flats = 0;
         for (size_t i = 0; i < n; ++i) {
             lo[i] = items[i].box.lo[a] + 0.f;  // + 0: -0 becomes 0, as in the events
             hi[i] = items[i].box.hi[a] + 0.f;
+            const bool is_flat = hi[i] == lo[i];  // a flat triangle has one event
             cand[m++] = lo[i];
-            if (hi[i] != lo[i]) cand[m++] = hi[i];  // a flat triangle has one event
+            if (!is_flat) cand[m++] = hi[i];
+            flat[i] = is_flat ? lo[i] : nan;
+            flats += is_flat;
         }
         const size_t padded = (m + lanes - 1) / lanes * lanes;
         for (size_t c = m; c < padded; ++c) cand[c] = cand[0];
-        // below: lo < p, above: hi > p, planar: flat in p (the sweep's counts at p).
-        for (size_t c0 = 0; c0 < padded; c0 += lanes) {
-            uint32_t b[lanes] = {}, ab[lanes] = {}, pl[lanes] = {};
-            for (size_t j = 0; j < n; ++j) {
-                const float l = lo[j], h = hi[j];
-                for (size_t k = 0; k < lanes; ++k) {
-                    const float p = cand[c0 + k];
-                    b[k] += l < p;
-                    ab[k] += h > p;
-                    pl[k] += (l == p) & (h == p);
-                }
-            }
-            for (size_t k = 0; k < lanes; ++k) {
-                below[c0 + k] = b[k];
-                above[c0 + k] = ab[k];
-                planar[c0 + k] = pl[k];
-            }
-        }
-        // AxisCost's formula, for planar triangles left and right.
+        if (flats > 0)
+            count_sides<true>(lo, hi, flat, n, cand, padded, below, above, planar);
+        else
+            count_sides<false>(lo, hi, flat, n, cand, padded, below, above, planar);
+        // AxisCost's formula, exactly (double) for the few candidates that can be the cheapest.
         const double box_lo = box.lo[a], box_hi = box.hi[a];
         const double d1 = diag[(a + 1) % 3], d2 = diag[(a + 2) % 3];
         const double cap = d1 * d2, perimeter = d1 + d2;
         const double nd = double(n);
-        // Branch-free (bitwise & and |), so that it vectorises.
-        for (size_t c = 0; c < padded; ++c) {
-            const double p = cand[c];
+        const auto exact_cost = [&](float p, double cl, double cr) -> double {
+            if ((p == box_hi && cl == nd) || (p == box_lo && cr == nd)) return pos_inf;
             const double pl_area = (cap + (p - box_lo) * perimeter) * inv_area;
             const double pr_area = (cap + (box_hi - p) * perimeter) * inv_area;
-            const double b = int32_t(below[c]), ab = int32_t(above[c]), fl = int32_t(planar[c]);
-            const auto cost = [&](double cl, double cr) {
-                const double c0 = trav + isect * (pl_area * cl + pr_area * cr);
-                const bool no_progress =
-                    ((p == box_hi) & (cl == nd)) | ((p == box_lo) & (cr == nd));
-                const double factor = ((cl == 0.0) | (cr == 0.0)) ? bonus : 1.0;
-                return no_progress ? pos_inf : c0 * factor;
-            };
-            cost_left[c] = cost(b + fl, ab);
-            const double right = cost(b, ab + fl);
-            cost_right[c] = fl > 0.0 ? right : pos_inf;
-        }
-        // The cheapest cost, lane by lane so that it vectorises; then the sweep's choice among
-        // the candidates of that cost: it visits planes in increasing order, planar triangles
-        // left first, and keeps the first cheapest.
-        constexpr size_t width = 8;
-        double lane_min[width];
-        for (size_t k = 0; k < width; ++k) lane_min[k] = pos_inf;
-        for (size_t c0 = 0; c0 < padded; c0 += width)
-            for (size_t k = 0; k < width; ++k) {
-                const double l = cost_left[c0 + k], r = cost_right[c0 + k];
-                const double lr = r < l ? r : l;
-                lane_min[k] = lr < lane_min[k] ? lr : lane_min[k];
-            }
-        double cheapest = pos_inf;
-        for (double v : lane_min) cheapest = v < cheapest ? v : cheapest;
-        if (cheapest == pos_inf) continue;
-        // The lowest plane of that cost (lane by lane again), then whether planar left does it.
-        float lane_p[width];
-        for (size_t k = 0; k < width; ++k) lane_p[k] = pos_inf;
-        for (size_t c0 = 0; c0 < padded; c0 += width)
-            for (size_t k = 0; k < width; ++k) {
+            const double cost = trav + isect * (pl_area * cl + pr_area * cr);
+            return cl == 0.0 || cr == 0.0 ? cost * bonus : cost;
+        };
+        // Which ones: the same costs in float, 16 lanes at a time, branch-free so that it
+        // vectorises. The items lie in the node's box, so every term is non-negative and each
+        // float cost is within a relative 1e-6 of the exact one, unless the area ratios overflow
+        // a float or the costs are near its smallest normal numbers: then all are candidates.
+        const double perimeter_ratio = perimeter * inv_area;
+        const bool approx_holds = perimeter_ratio < 1e30 && trav * bonus > 1e-30;
+        const float cap_f = float(cap * inv_area), perimeter_f = float(perimeter_ratio);
+        const float lo_f = box.lo[a], hi_f = box.hi[a], n_f = float(n);
+        const float trav_f = float(trav), isect_f = float(isect), bonus_f = float(bonus);
+        for (size_t c0 = 0; c0 < padded; c0 += lanes)
+            for (size_t k = 0; k < lanes; ++k) {
                 const size_t c = c0 + k;
-                const bool hit = (cost_left[c] == cheapest) | (cost_right[c] == cheapest);
-                const float p = hit ? cand[c] : pos_inf;
-                lane_p[k] = p < lane_p[k] ? p : lane_p[k];
+                const float p = cand[c];
+                const float pl_area = cap_f + (p - lo_f) * perimeter_f;
+                const float pr_area = cap_f + (hi_f - p) * perimeter_f;
+                const float b = float(int32_t(below[c])), ab = float(int32_t(above[c]));
+                const float fl = float(int32_t(planar[c]));
+                const auto cost = [&](float cl, float cr) {
+                    const float c0 = trav_f + isect_f * (pl_area * cl + pr_area * cr);
+                    const bool no_progress =
+                        ((p == hi_f) & (cl == n_f)) | ((p == lo_f) & (cr == n_f));
+                    const float factor = ((cl == 0.f) | (cr == 0.f)) ? bonus_f : 1.f;
+                    return no_progress ? pos_inf : c0 * factor;
+                };
+                const float l = cost(b + fl, ab), right = cost(b, ab + fl);
+                const float r = fl > 0.f ? right : pos_inf;
+                const float lr = r < l ? r : l;
+                approx[c] = lr;
             }
-        float lowest = pos_inf;
-        for (float p : lane_p) lowest = p < lowest ? p : lowest;
-        size_t at = m;  // a candidate at `lowest` of that cost, planar left if one is
-        for (size_t c = 0; c < m; ++c)
-            if (cand[c] == lowest) {
-                if (cost_left[c] == cheapest) {
-                    at = c;
-                    break;
-                }
-                if (cost_right[c] == cheapest && at == m) at = c;
+        using vfloat_max = vfloat<simd_max_width>;
+        vfloat_max lane_min = pos_inf;
+        for (size_t c0 = 0; c0 < padded; c0 += simd_max_width)
+            lane_min = min(lane_min, vfloat_max::load(approx + c0));
+        const float approx_min = reduce_min(lane_min)[0];
+        if (approx_holds && approx_min == pos_inf) continue;  // no split makes progress
+        const float near = approx_min * 1.0001f;
+        const uint32_t all_lanes = approx_holds ? 0u : (1u << simd_max_width) - 1u;
+
+        // The sweep's choice among them: it visits planes in increasing order, planar triangles
+        // left first, and keeps the first cheapest.
+        SplitChoice axis_best;
+        for (size_t c0 = 0; c0 < padded; c0 += simd_max_width)
+            for (uint32_t near_bits =
+                     movemask(vfloat_max::load(approx + c0) <= vfloat_max(near)) | all_lanes;
+                 near_bits != 0; near_bits &= near_bits - 1) {
+                const size_t c = c0 + size_t(std::countr_zero(near_bits));
+                const float p = cand[c];
+                if (axis_best.axis == a && p == axis_best.pos) continue;  // same plane, same counts
+                const double b = below[c], ab = above[c], fl = planar[c];
+                const double l = exact_cost(p, b + fl, ab);
+                const double r = fl > 0.0 ? exact_cost(p, b, ab + fl) : pos_inf;
+                const bool planar_left = l <= r;
+                const double cost = planar_left ? l : r;
+                if (cost < axis_best.cost || (cost == axis_best.cost && p < axis_best.pos))
+                    axis_best = {a,
+                                 p,
+                                 planar_left,
+                                 cost,
+                                 below[c] + (planar_left ? planar[c] : 0),
+                                 above[c] + (planar_left ? 0 : planar[c])};
             }
-        const bool planar_left = cost_left[at] == cheapest;
-        const uint32_t fl = planar[at];
-        const SplitChoice axis_best{a,
-                                    cand[at],
-                                    planar_left,
-                                    cheapest,
-                                    below[at] + (planar_left ? fl : 0),
-                                    above[at] + (planar_left ? 0 : fl)};
         best = better(best, axis_best);
     }
     return best;
