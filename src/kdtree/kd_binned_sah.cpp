@@ -23,52 +23,51 @@ constexpr size_t grain = 8192;
 /// The planes of one axis. A value's bin is its scaled offset rounded down, and plane k is the
 /// least float whose bin is k: the bin then IS the count of planes <= the value, exactly, with
 /// no search and no correction (the bin is monotone in the value, since float subtraction and
-/// multiplication round monotonically). The count of planes < x is the bin of the float before x.
+/// multiplication round monotonically). The count of planes < x is the bin of the float before
+/// x. A plane's exact position is only searched for where a split may be placed (exact());
+/// costs are compared at the even spacing (approx()), a few floats away.
 struct AxisPlanes {
-    std::array<float, max_planes + 2> pos;  ///< pos[1..planes]; pos[0] = -inf, pos[planes+1] = +inf
     int planes = 0;
-    float lo = 0.f, scale = 0.f;
+    float lo = 0.f, hi = 0.f, scale = 0.f;
 
     /// Number of planes <= x.
     int bin(float x) const { return int(std::clamp((x - lo) * scale, 0.f, float(planes))); }
     /// Number of planes < x.
     int bin_strict(float x) const { return bin(next_float_down(x)); }
 
-    /// Planes strictly inside (lo, hi), about evenly spaced and strictly increasing; false when
-    /// the box is too thin along the axis to hold them.
+    /// False when the box is too thin along the axis for the planes.
     bool init(float box_lo, float box_hi, int k_planes) {
         planes = k_planes;
         lo = box_lo;
+        hi = box_hi;
         scale = float(planes + 1) / (box_hi - box_lo);
-        if (!std::isfinite(scale) || !(scale > 0.f) || bin(box_hi) < planes) return false;
-        pos[0] = neg_inf;
-        pos[planes + 1] = pos_inf;
-        for (int k = 1; k <= planes; ++k) {
-            const float even =
-                float(double(box_lo) + (double(box_hi) - double(box_lo)) * k / (planes + 1));
-            pos[k] = least_of_bin(k, std::clamp(even, box_lo, box_hi), box_lo, box_hi);
-            if (!(pos[k] > (k == 1 ? box_lo : pos[k - 1]) && pos[k] < box_hi)) return false;
-        }
-        return true;
+        return std::isfinite(scale) && scale > 0.f && bin(box_hi) >= planes;
     }
 
-private:
-    /// The least float in (box_lo, box_hi] of bin >= k (0 < k <= bin(box_hi)), searched from
-    /// `guess`: a few floats away, except near 0, where floats are dense and a bin spans
-    /// millions of them; so the search gallops, then bisects (in the floats' order).
-    float least_of_bin(int k, float guess, float box_lo, float box_hi) const {
+    /// Plane k (1 <= k <= planes) at the even spacing.
+    float approx(int k) const {
+        return std::clamp(float(double(lo) + (double(hi) - double(lo)) * k / (planes + 1)), lo, hi);
+    }
+
+    /// Plane k's position: the least float in (lo, hi] of bin >= k; -inf for k = 0, +inf for
+    /// k = planes + 1. Searched from approx(k): a few floats away, except near 0, where floats
+    /// are dense and a bin spans millions of them; so the search gallops, then bisects (in the
+    /// floats' order).
+    float exact(int k) const {
+        if (k <= 0) return neg_inf;
+        if (k > planes) return pos_inf;
         const auto in_bin = [&](uint32_t key) { return bin(float_from_order_key(key)) >= k; };
-        const uint32_t first = float_order_key(box_lo), last = float_order_key(box_hi);
-        uint32_t below = float_order_key(guess), above = below;  // bin < k at below, >= k above
+        const uint32_t first = float_order_key(lo), last = float_order_key(hi);
+        uint32_t below = float_order_key(approx(k)), above = below;  // bin < k / >= k
         if (in_bin(above)) {
             for (uint64_t step = 1; below > first && in_bin(below); step *= 2) {
                 above = below;
-                below = below - first > step ? below - step : first;
+                below = below - first > step ? below - uint32_t(step) : first;
             }
         } else {
             for (uint64_t step = 1; !in_bin(above); step *= 2) {
                 below = above;
-                above = last - above > step ? above + step : last;
+                above = last - above > step ? above + uint32_t(step) : last;
             }
         }
         while (above - below > 1) {
@@ -261,7 +260,7 @@ SplitChoice find_binned_split(std::span<const TriBox> items, const Bbox3f& box,
         for (int k = 1; k <= planes; ++k) {
             below += lo_bins[k - 1];
             above -= hi_bins[k - 1];
-            const float p = axes[a].pos[k];
+            const float p = axes[a].approx(k);
             const size_t planar = flat[k];
             // The sweep's counts at p: flat triangles in p are on neither side yet.
             const auto consider = [&](size_t cl, size_t cr, bool planar_left) {
@@ -276,17 +275,25 @@ SplitChoice find_binned_split(std::span<const TriBox> items, const Bbox3f& box,
         }
     }
     // A refinement scans all the node's triangles, and rarely moves the choice to another axis:
-    // only the axis of the cheapest binned plane is refined (docs/benchmarks.md, "kd-tree build").
+    // only the axis of the cheapest binned plane is refined, and only it can be chosen
+    // (docs/benchmarks.md, "kd-tree build").
     const double cheapest = std::min({axis_best[0].cost, axis_best[1].cost, axis_best[2].cost});
     for (int a = 0; a < 3; ++a) {
-        if (axis_best[a].axis >= 0 && axis_best[a].cost == cheapest) {
-            // The exact planes between the binned planes around the best one.
-            const SplitChoice near =
-                sweep_between(items, a, axes[a].pos[k_best[a] - 1], axes[a].pos[k_best[a] + 1],
-                              AxisCost(a, box, n, config), events);
-            axis_best[a] = first_cheapest(axis_best[a], near);
-        }
-        best = better(best, axis_best[a]);
+        if (axis_best[a].axis < 0 || axis_best[a].cost != cheapest) continue;
+        const AxisCost cost(a, box, n, config);
+        const AxisPlanes& axis = axes[a];
+        const int k = k_best[a];
+        // The bins counted at the plane's exact position, so the split is placed and costed there.
+        SplitChoice binned = axis_best[a];
+        binned.pos = axis.exact(k);
+        if (!(binned.pos > axis.lo && binned.pos < axis.hi))
+            return find_exact_split(items, box, config);  // too thin for the planes
+        binned.cost = cost(binned.pos, binned.left_count, binned.right_count);
+        if (binned.cost == pos_inf) binned.axis = -1;
+        // The exact planes between the binned planes around the best one.
+        const SplitChoice near =
+            sweep_between(items, a, axis.exact(k - 1), axis.exact(k + 1), cost, events);
+        best = better(best, first_cheapest(binned, near));
     }
     return best;
 }
