@@ -34,13 +34,28 @@ namespace {
 
 enum MeshKind { sphere = 0, soup = 1 };
 
+/// A benchmark's mesh (range 0: kind, 1: triangles) and its oneTBB thread cap (range 2: the
+/// threads, 0 = all), held while the builds run; labels the benchmark.
+struct MeshCase {
+    Scene scene;
+    tbb::global_control limit;
+
+    explicit MeshCase(benchmark::State& state)
+        : scene(MeshKind(state.range(0)) == sphere ? kdbench::bumpy_sphere_of(size_t(state.range(1)))
+                                                   : kdbench::triangle_soup(size_t(state.range(1)))),
+          limit(tbb::global_control::max_allowed_parallelism,
+                state.range(2) > 0 ? size_t(state.range(2))
+                                   : size_t(tbb::info::default_concurrency())) {
+        state.SetLabel(std::string(MeshKind(state.range(0)) == sphere ? "bumpy sphere"
+                                                                       : "triangle soup") +
+                       (state.range(2) > 0 ? ", 1 thread" : ", all threads"));
+        state.counters["tris"] = double(scene.triangle_count());
+    }
+};
+
 void kd_build(benchmark::State& state) {
-    const auto kind = MeshKind(state.range(0));
-    const auto n = size_t(state.range(1));
-    const int threads = int(state.range(2));
-    const Scene scene = kind == sphere ? kdbench::bumpy_sphere_of(n) : kdbench::triangle_soup(n);
-    tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
-                              threads > 0 ? size_t(threads) : size_t(tbb::info::default_concurrency()));
+    const MeshCase mesh(state);
+    const Scene& scene = mesh.scene;
     KdTree tree;
     double seconds = 0, cpu_seconds = 0;
     for (auto _ : state) {
@@ -54,9 +69,6 @@ void kd_build(benchmark::State& state) {
     const double tris = double(scene.triangle_count());
     const double per_build = seconds / double(state.iterations());
     const double cpu_per_build = cpu_seconds / double(state.iterations());
-    state.SetLabel(std::string(kind == sphere ? "bumpy sphere" : "triangle soup") +
-                   (threads > 0 ? ", 1 thread" : ", all threads"));
-    state.counters["tris"] = tris;
     state.counters["nodes"] = double(s.nodes);
     state.counters["leaves"] = double(s.leaves);
     state.counters["empty"] = double(s.empty_leaves);
@@ -73,18 +85,11 @@ void kd_build(benchmark::State& state) {
 
 /// Embree's BVH build (rtcCommitScene alone) on the same mesh and threads.
 void embree_build(benchmark::State& state) {
-    const auto kind = MeshKind(state.range(0));
-    const auto n = size_t(state.range(1));
-    const int threads = int(state.range(2));
-    const Scene scene = kind == sphere ? kdbench::bumpy_sphere_of(n) : kdbench::triangle_soup(n);
-    tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
-                              threads > 0 ? size_t(threads) : size_t(tbb::info::default_concurrency()));
+    const MeshCase mesh(state);
     const KdTree unused;  // Embree builds its own BVH
     double seconds = 0;
-    for (auto _ : state) seconds += embree_build_seconds(*make_tracer("embree", scene, unused));
-    state.SetLabel(std::string(kind == sphere ? "bumpy sphere" : "triangle soup") +
-                   (threads > 0 ? ", 1 thread" : ", all threads"));
-    state.counters["tris"] = double(scene.triangle_count());
+    for (auto _ : state)
+        seconds += embree_build_seconds(*make_tracer("embree", mesh.scene, unused));
     state.counters["build_s"] = seconds / double(state.iterations());
 }
 
