@@ -18,8 +18,9 @@ namespace rtt::kd {
 int binned_planes_for(size_t n);
 
 /// Cheapest split of the node `box` holding `items`, costed as the sweep costs it (exact counts,
-/// planar triangles on either side): per axis, the cheapest of the binned planes and of every
-/// triangle bound between the planes around it; ties to the lower axis, then the lower plane.
+/// planar triangles on either side): on the axis of the cheapest binned plane (the lower axis
+/// at a tie), the cheapest of that plane and of every triangle bound between the planes around
+/// it; ties to the lower plane.
 /// When the box is too thin for the planes, every triangle bound is tried (find_exact_split).
 /// axis = -1 when no plane makes progress.
 SplitChoice find_binned_split(std::span<const TriBox> items, const Bbox3f& box,
