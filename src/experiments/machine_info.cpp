@@ -2,10 +2,10 @@
 
 #include <cstdio>
 #include <ctime>
-#include <filesystem>
 #include <fstream>
 #include <thread>
 
+#include "rtt_git_commit.h"  // generated at build time
 #include "simd/simd.h"
 
 namespace rtt::bench {
@@ -29,31 +29,8 @@ std::string cpu_model() {
     return "unknown";
 }
 
-/// First line printed by `command`, or "" when it fails.
-std::string first_line_of(const std::string& command) {
-    std::FILE* pipe = popen(command.c_str(), "r");
-    if (!pipe) return "";
-    char buffer[256] = {};
-    const bool got = std::fgets(buffer, sizeof buffer, pipe) != nullptr;
-    const int status = pclose(pipe);
-    return got && status == 0 ? trim(buffer) : "";
-}
-
-/// The commit of the tree these sources were compiled from. The source folder is known from
-/// __FILE__ (CMake passes absolute paths), so this works from any working directory and needs
-/// no configure-time step; a tarball or a machine without git reads "unknown".
-std::string git_commit() {
-    const std::filesystem::path source_root =
-        std::filesystem::path(__FILE__).parent_path().parent_path().parent_path();
-    std::error_code ec;
-    if (!std::filesystem::exists(source_root / ".git", ec)) return "unknown";
-    const std::string git = "git -C '" + source_root.string() + "' ";
-    const std::string head = first_line_of(git + "rev-parse HEAD 2>/dev/null");
-    if (head.empty()) return "unknown";
-    const std::string dirty =
-        first_line_of(git + "status --porcelain --untracked-files=no 2>/dev/null | head -n 1");
-    return dirty.empty() ? head : head + "+dirty";
-}
+/// The commit these sources were compiled from, recorded at build time (cmake/git_commit.cmake).
+std::string git_commit() { return RTT_GIT_COMMIT; }
 
 std::string compiler() {
 #if defined(__clang__)
