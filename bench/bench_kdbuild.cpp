@@ -16,14 +16,13 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
 #include <string>
-#include <vector>
 
+#include "experiments/measure.h"
 #include "kd_bench_meshes.h"
 #include "rtt/kdtree.h"
 #include "rtt/tracer.h"
@@ -103,8 +102,7 @@ void sizes(benchmark::internal::Benchmark* b) {
 BENCHMARK(kd_build)->Apply(sizes);
 
 [[maybe_unused]] const bool embree_registered = [] {
-    const std::vector<std::string> kinds = tracer_kinds();
-    if (std::find(kinds.begin(), kinds.end(), "embree") != kinds.end())
+    if (bench::has_tracer("embree"))
         benchmark::RegisterBenchmark("embree_build", embree_build)->Apply(sizes);
     return true;
 }();

@@ -79,18 +79,11 @@ SplitChoice find_small_split(std::span<const TriBox> items, const Bbox3f& box,
             count_sides<true>(lo, hi, flat, n, cand, padded, below, above, planar);
         else
             count_sides<false>(lo, hi, flat, n, cand, padded, below, above, planar);
-        // AxisCost's formula, exactly (double) for the few candidates that can be the cheapest.
-        const double box_lo = box.lo[a], box_hi = box.hi[a];
+        // The exact cost (AxisCost, in double) only for the few candidates that can be the
+        // cheapest.
+        const AxisCost exact_cost(a, box, n, config);
         const double d1 = diag[(a + 1) % 3], d2 = diag[(a + 2) % 3];
         const double cap = d1 * d2, perimeter = d1 + d2;
-        const double nd = double(n);
-        const auto exact_cost = [&](float p, double cl, double cr) -> double {
-            if ((p == box_hi && cl == nd) || (p == box_lo && cr == nd)) return pos_inf;
-            const double pl_area = (cap + (p - box_lo) * perimeter) * inv_area;
-            const double pr_area = (cap + (box_hi - p) * perimeter) * inv_area;
-            const double cost = trav + isect * (pl_area * cl + pr_area * cr);
-            return cl == 0.0 || cr == 0.0 ? cost * bonus : cost;
-        };
         // Which ones: the same costs in float, 16 lanes at a time, branch-free so that it
         // vectorises. The items lie in the node's box, so every term is non-negative and each
         // float cost is within a relative 1e-6 of the exact one, unless the area ratios overflow
@@ -139,9 +132,9 @@ SplitChoice find_small_split(std::span<const TriBox> items, const Bbox3f& box,
                 const size_t c = c0 + size_t(std::countr_zero(near_bits));
                 const float p = cand[c];
                 if (axis_best.axis == a && p == axis_best.pos) continue;  // same plane, same counts
-                const double b = below[c], ab = above[c], fl = planar[c];
+                const size_t b = below[c], ab = above[c], fl = planar[c];
                 const double l = exact_cost(p, b + fl, ab);
-                const double r = fl > 0.0 ? exact_cost(p, b, ab + fl) : pos_inf;
+                const double r = fl > 0 ? exact_cost(p, b, ab + fl) : pos_inf;
                 const bool planar_left = l <= r;
                 const double cost = planar_left ? l : r;
                 if (cost < axis_best.cost || (cost == axis_best.cost && p < axis_best.pos))
