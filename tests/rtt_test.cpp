@@ -405,7 +405,7 @@ TEST(Rtt, BuiltinRoomMatchesReference) {
     tally.print("builtin room");
     EXPECT_EQ(tally.mismatches, 0u);
     EXPECT_EQ(tally.segment_mismatches, 0u);
-    // At K = 1 (the 256x192 view) only tiles with coherent corners are answered (trace_rtt.cpp).
+    // At K = 1 (the 256x192 view) only tiles with coherent corners are answered (primary_tiles.cpp).
     EXPECT_GT(tally.answered_fraction(), 0.12);
     EXPECT_GT(tally.segments_answered_fraction(), 0.2);
 }
@@ -438,7 +438,7 @@ TEST(Rtt, RenderWithMirrorsMatchesReference) {
     const KdTree tree = build_kdtree(scene);
     const auto rtt = make_tracer("rtt", scene, tree);
     const auto ref = make_tracer("ray", scene, tree);
-    // K = 3: tiles of 12x12 samples, whose corners may hit several planes (rtt_cull.h).
+    // K = 3: tiles of 12x12 samples, whose corners may hit several planes (walk.h).
     for (const int aa : {1, 2, 3}) {
         SCOPED_TRACE("aa " + std::to_string(aa));
         RenderOptions opt;

@@ -1,7 +1,8 @@
 // RTT's geometric building blocks: the shaft's conservative rejection tests (a rejected triangle
 // is never hit by any ray the shaft accepts, whatever the float test's rounding), the whole-tile
 // occluder test, the per-ray check, the region used for shaft culling, and exact plane identity.
-#include "geom/shaft.h"
+#include "relevant_triangles/conservative_tests.h"
+#include "relevant_triangles/region.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,60 @@
-// The RTT tracer's class and shared constants (internal to src/trace: trace_rtt.cpp holds the
-// primary and reflected rays, rtt_shadows.cpp the shadow segments). Behaviour and statistics are
-// documented in trace_rtt.h.
+// The RTT tracers: relevant triangles tracing (Dmitriev, Havran, Seidel 2004, section 3) behind
+// the Tracer interface. The exactness argument is in docs/design.md, "RTT exactness". This
+// folder holds the algorithm's steps, one file each:
+//   shaft.h / shaft.cpp   the shaft of a tile's 4 corner rays and the per-ray check;
+//   conservative_tests.h  the five conservative tests (and the corners' own watertight tests);
+//   region.h              the region R of the rays answered from a list, and boxes against it;
+//   relevant_list.h       the list and the mailbox;
+//   walk.h                "rtt": corners and list from one walk of the kd-tree through R;
+//   corner_pass.h/.cpp,   "rtt-paper" and the lean pass: the corners as one SSE packet, then
+//   deferred_nodes.cpp    shaft culling of the nodes they left out;
+//   inner_rays.h          the inner rays K at a time against the list;
+//   tile.h                tile helpers: samples still to trace, corners, end planes;
+//   primary_tiles.cpp     primary and reflected tiles (and the factory);
+//   shadow_tiles.cpp      shadow segments.
+// The fallback for every ray RTT does not answer is the widest packet tracer
+// (src/trace/trace_packet.h, fed by src/trace/packet_blocks.h).
+//
+// Per tile with shaft = true, "rtt":
+//  1. A shaft is made from the 4 corner rays (shaft.h). One front-to-back walk of the
+//     kd-tree through the shaft (walk.h) enters the nodes whose box may meet the region R of
+//     the rays answered from the list; every triangle of every leaf it enters goes through the
+//     corners' watertight tests (the corners are answers too, trace_ray's) and the five
+//     conservative tests. The corners' hits narrow R as the walk goes.
+//  2. Primary and reflected tiles (intersect): R ends on the plane P of the corners' hits (exact
+//     plane identity, geom/plane_id.h; the paper asks for one triangle). Tiles above 8x8
+//     samples whose corners hit several planes take R up to the farthest hit's offset, without
+//     P. Corners on several planes in a 4x4-sample tile, or a walk that would enter more nodes
+//     than tracing the tile costs, end RTT for the tile at once: it is traced by 16-wide
+//     packets. Otherwise the inner rays are intersected with the list K at a time
+//     (inner_rays.h); an inner answer is taken when the ray passes the shaft check and its
+//     answer lies inside R; any other inner ray is traced.
+//  3. Shadow tiles (occluded): when the corners and every active sample of the tile hit
+//     triangles of one plane and the light is not on it (exact orientation), R ends at that
+//     plane and is known before the walk:
+//     an empty list means visible, a whole-tile occluder (CornerVerdict::blocks_all) blocked,
+//     otherwise each inner segment is tested against the list (any hit).
+// A tile may be a region of several of the renderer's 4x4-pixel tiles (RayTile::cell; at K = 1
+// 16x16 pixels by default): it is one shaft like any tile, walked with a smaller budget
+// (RttOptions::region_budget_divisor), and traced whole when it gives no list.
+// Everything else (tiles without shaft, inner rays failing a check) is traced by the SIMD
+// packet tracer, so answers always equal trace_ray's, ray for ray.
+//
+// At K = 1 and 2 (up to 8x8 samples, RttOptions::lean_max_samples) "rtt" takes rtt-paper's corner packet
+// instead of the walk, stopped at the first sign of incoherence (the tile is then traced by the
+// widest packets), with the walk's one-plane rule for the end of R (primary_tiles.cpp, measured in
+// docs/benchmarks.md).
+//
+// "rtt-paper" keeps the paper's procedure and rules instead: the corners go through the tree as
+// one SSE packet with the incoherence flag (corner_pass.h), the nodes they leave out are shaft
+// culled afterwards (collect_deferred), and a tile is answered only when the corners stayed
+// coherent and, for primary rays, hit one triangle.
+//
+// Statistics: traced = corner rays and segments plus fallbacks, answered = rays answered from a
+// list; rays = traced + answered (for shadows only active segments count; the corners of a
+// shadow shaft are traced even when inactive, without being counted).
+//
+// This header: the tracer's class and shared constants (internal to this folder).
 #pragma once
 
 #include <span>
@@ -8,11 +62,11 @@
 #include <vector>
 
 #include "geom/plane_id.h"
-#include "geom/shaft.h"
+#include "relevant_triangles/corner_pass.h"
+#include "relevant_triangles/region.h"
+#include "relevant_triangles/tile.h"
 #include "rtt/tracer.h"
 #include "simd/simd.h"
-#include "trace/rtt_corners.h"
-#include "trace/rtt_tile.h"
 
 namespace rtt::rtt_detail {
 
@@ -44,10 +98,10 @@ inline thread_local CornerResult tls_corners;
 
 class RttTracer final : public Tracer {
 public:
-    /// RttRules::extended ("rtt"): corners and list from one shaft walk (rtt_cull.h), whatever
+    /// RttRules::extended ("rtt"): corners and list from one shaft walk (walk.h), whatever
     /// the paper's incoherence flag would say; primary tiles whose corners hit several triangles
     /// of one plane (and, from 8x8 samples on, of several planes) are answered too. paper
-    /// ("rtt-paper"): the paper's corner packet (rtt_corners.h) and rules, coherent corners on
+    /// ("rtt-paper"): the paper's corner packet (corner_pass.h) and rules, coherent corners on
     /// one triangle (shadows: coherent corners).
     RttTracer(const Scene& scene, const KdTree& tree, const RttOptions& options)
         : tree_(tree),
@@ -110,7 +164,7 @@ private:
     std::vector<TriangleVerts> triangles_;
     PlaneIds planes_;
     PlaneNormals normals_;
-    /// Nodes the shaft walk (rtt_cull.h) and the paper's culling of deferred nodes may enter
+    /// Nodes the shaft walk (walk.h) and the paper's culling of deferred nodes may enter
     /// for a tile of n samples before the tile is traced instead.
     int walk_budget(int n, bool region) const {
         return options_.walk_budget_base +

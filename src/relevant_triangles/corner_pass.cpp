@@ -1,4 +1,4 @@
-#include "trace/rtt_corners.h"
+#include "relevant_triangles/corner_pass.h"
 
 #include "geom/triangle_simd.h"
 #include "trace/trace_ray.h"

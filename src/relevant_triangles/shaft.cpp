@@ -1,4 +1,4 @@
-#include "geom/shaft.h"
+#include "relevant_triangles/shaft.h"
 
 #include <bit>
 

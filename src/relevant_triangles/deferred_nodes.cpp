@@ -1,9 +1,9 @@
-// Shaft culling of the nodes the corner lanes left out (rtt_corners.h: collect_deferred).
+// Shaft culling of the nodes the corner lanes left out (corner_pass.h: collect_deferred).
 #include <bit>
 
 #include "geom/triangle_simd.h"
+#include "relevant_triangles/corner_pass.h"
 #include "simd/simd.h"
-#include "trace/rtt_corners.h"
 
 namespace rtt {
 

@@ -1,21 +1,17 @@
-// The RTT tracer: tiles of primary and reflected rays, and the factories (trace_rtt.h).
-#include "trace/trace_rtt.h"
-
-#include <string>
-
-#include "rtt/error.h"
-
+// The RTT tracer: tiles of primary and reflected rays, and the factory (rtt_tracer.h).
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <optional>
+#include <string>
 #include <type_traits>
 
+#include "rtt/error.h"
+#include "relevant_triangles/inner_rays.h"
+#include "relevant_triangles/rtt_tracer.h"
+#include "relevant_triangles/walk.h"
 #include "trace/factories.h"
 #include "trace/packet_blocks.h"
-#include "trace/rtt_cull.h"
-#include "trace/rtt_inner.h"
-#include "trace/rtt_tracer.h"
 #include "trace/trace_packet.h"
 
 namespace rtt {
@@ -113,7 +109,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         // incoherence (the tile is then traced by the widest packets at once); nodes no corner
         // enters are deferred untested and shaft culled against R afterwards, 16 boxes per test
         // (collect_deferred, within deferred_budget). Exact as rtt-paper: every leaf whose box
-        // may meet R is tested (rtt_corners.h).
+        // may meet R is tested (corner_pass.h).
         const CornerStatus status = trace_corners<false, true>(tree_, triangles_, shaft, nullptr,
                                                                corners, tls_mailbox, res);
         if (status == CornerStatus::untraced) {
@@ -130,8 +126,8 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
                                              tls_mailbox, res) == CornerStatus::traced;
         }
     } else if (extended_) {
-        // One walk through the shaft (rtt_cull.h), narrowed as the corners' hits come nearer.
-        // Each region must contain the next one (rtt_cull.h): the end offset and tolerance
+        // One walk through the shaft (walk.h), narrowed as the corners' hits come nearer.
+        // Each region must contain the next one (walk.h): the end offset and tolerance
         // only shrink with the hits.
         //  * When the 4 hits first lie on one plane P, R narrows to P, and the walk gives up
         //    if the hits later move to another plane (the regions of two planes need not nest
@@ -197,9 +193,9 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
 
     SampleBits need(n);
     if (listed) {
-        // "Beyond the end" (shaft.h test (d)): a triangle whose vertices all lie beyond
+        // "Beyond the end" (conservative_tests.h, test (d)): a triangle whose vertices all lie beyond
         // end_limit along kz cannot be hit inside R; nor can one whose bounding box misses R
-        // (the walk's own rule, rtt_cull.h; the walk may have listed it under a larger region).
+        // (the walk's own rule, walk.h; the walk may have listed it under a larger region).
         RelevantList& list = res.list;
         if (!open && !region) region.emplace(primary_region(shaft, end));
         int kept = open ? list.count : 0;  // the walk's region was the final one

@@ -1,4 +1,4 @@
-// Tile-level helpers of the RTT tracer (trace_rtt.cpp): which samples still need tracing, the
+// Tile-level helpers of the RTT tracer (primary_tiles.cpp): which samples still need tracing, the
 // corner rays of a tile, and the plane a shaft's rays end on.
 #pragma once
 
@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "geom/plane_id.h"
-#include "geom/shaft.h"
+#include "relevant_triangles/region.h"
 #include "rtt/tracer.h"
 #include "trace/trace_packet.h"
 

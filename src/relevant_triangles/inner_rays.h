@@ -11,10 +11,10 @@
 #include <span>
 #include <type_traits>
 
-#include "geom/shaft.h"
 #include "geom/triangle_simd.h"
+#include "relevant_triangles/relevant_list.h"
+#include "relevant_triangles/shaft.h"
 #include "rtt/tracer.h"
-#include "trace/rtt_corners.h"
 
 namespace rtt {
 

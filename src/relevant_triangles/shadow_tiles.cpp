@@ -1,13 +1,13 @@
-// The RTT tracer's shadow segments (trace_rtt.h).
+// The RTT tracer's shadow segments (rtt_tracer.h).
 #include <algorithm>
 #include <bit>
 #include <cmath>
 
+#include "relevant_triangles/inner_rays.h"
+#include "relevant_triangles/rtt_tracer.h"
+#include "relevant_triangles/walk.h"
 #include "simd/lane_bytes.h"
 #include "trace/packet_blocks.h"
-#include "trace/rtt_cull.h"
-#include "trace/rtt_inner.h"
-#include "trace/rtt_tracer.h"
 #include "trace/trace_packet.h"
 
 namespace rtt::rtt_detail {
@@ -97,7 +97,7 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
     CornerResult& res = tls_corners;
     CornerStatus status;
     if (extended_) {
-        // The region is final from the start: one walk through it (rtt_cull.h) answers the
+        // The region is final from the start: one walk through it (walk.h) answers the
         // corners and builds the list. The corners' answers come from the region, so their
         // points must pass the receiver check the inner ones pass (a point computed far from
         // the scene may lie off the plane by more than the tolerance). A walk that gives up

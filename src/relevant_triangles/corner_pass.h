@@ -1,8 +1,8 @@
 // RTT's corner traversal (paper section 3; docs/design.md, "Coverage"), used by "rtt-paper" and by
-// "rtt" at K = 1 and 2 (Lean; larger tiles walk the shaft instead, rtt_cull.h, sharing the types below): the 4 corner rays of a
+// "rtt" at K = 1 and 2 (Lean; larger tiles walk the shaft instead, walk.h, sharing the types below): the 4 corner rays of a
 // shaft go through the kd-tree as one SSE packet, with trace_ray's semantics per lane (they are
 // answers too), and every triangle of every leaf they reach is put through the shaft's five
-// conservative tests (geom/shaft.h) to build the tile's relevant list.
+// conservative tests (conservative_tests.h) to build the tile's relevant list.
 //
 // Why the list holds every triangle an inner ray can hit. The paper argues by coherence: if the
 // 4 corners visit exactly the same nodes with the same decisions, the inner rays of the convex
@@ -20,7 +20,7 @@
 //     decisions skip, or a popped node every lane has passed (closest hit). The latter are kept
 //     aside ("deferred", with their boxes) and, once R's end is known (the corners' hits),
 //     traversed by shaft culling: a node is entered when its box may meet R (collect_deferred;
-//     the tolerance of the box test, shaft.h PlaneSet, exceeds the float test's fuzz). A first
+//     the tolerance of the box test, region.h PlaneSet, exceeds the float test's fuzz). A first
 //     child lying wholly on the far side of a split from the apex is not kept: the cone's rays
 //     all move away from it.
 // So every leaf whose box meets R is tested, whatever the corners did. The paper's incoherence
@@ -35,61 +35,17 @@
 #include <span>
 #include <vector>
 
-#include "geom/shaft.h"
 #include "geom/triangle_simd.h"
+#include "relevant_triangles/conservative_tests.h"
+#include "relevant_triangles/region.h"
+#include "relevant_triangles/relevant_list.h"
 #include "rtt/kdtree.h"
 #include "rtt/math.h"
 
 namespace rtt {
 
-/// Capacity of a tile's relevant list; a longer list ends RTT for the tile (it would not pay).
-inline constexpr int rtt_max_relevant = 64;
 /// Capacity of the deferred nodes of one tile; more ends RTT for the tile.
 inline constexpr int rtt_max_deferred = 256;
-
-struct RelevantList {
-    int count = 0;
-    uint32_t tri[rtt_max_relevant];
-    float min_offset[rtt_max_relevant];  ///< CornerVerdict::min_offset of each entry.
-};
-
-/// Marks triangles already tested in the current tile (a triangle can sit in several leaves):
-/// a small open-addressing hash set that stays in L1 (a tile meets tens of triangles, not a
-/// per-scene array touched at random), cleared per tile by a stamp. When it fills up, further
-/// triangles are reported unseen: they are tested again (harmless) and may repeat in the list.
-class TriangleMailbox {
-public:
-    /// Starts a new tile.
-    void begin(size_t /*triangle_count*/) {
-        if (++stamp_ == 0) {
-            std::fill(std::begin(stamps_), std::end(stamps_), 0u);
-            stamp_ = 1;
-        }
-        used_ = 0;
-    }
-    /// True when `id` was already seen in this tile; marks it seen.
-    bool seen(uint32_t id) {
-        uint32_t slot = (id * 2654435761u) >> (32 - bits);
-        for (;; slot = (slot + 1) & (size - 1)) {
-            if (stamps_[slot] != stamp_) {
-                if (used_ == size * 3 / 4) return false;
-                stamps_[slot] = stamp_;
-                ids_[slot] = id;
-                ++used_;
-                return false;
-            }
-            if (ids_[slot] == id) return true;
-        }
-    }
-
-private:
-    static constexpr int bits = 9;
-    static constexpr uint32_t size = 1u << bits;
-    uint32_t stamps_[size] = {};
-    uint32_t ids_[size];
-    uint32_t stamp_ = 0;
-    uint32_t used_ = 0;
-};
 
 struct DeferredNode {
     BoxV box;

@@ -1,16 +1,16 @@
 // RTT by shaft culling (the "rtt" tracer; "rtt-paper" keeps the corner traversal of
-// rtt_corners.h): the tile's relevant list and its 4 corners' answers come from ONE front-to-back
+// corner_pass.h): the tile's relevant list and its 4 corners' answers come from ONE front-to-back
 // walk of the kd-tree that enters exactly the nodes whose box may meet the region R of the rays
 // answered from the list (ShaftRegion: the shaft's cone, the slab of kz offsets between their
 // starts and ends, and the plane they end on). Every triangle of every entered leaf goes through
 // the corners' watertight tests and the five conservative tests (test_corners).
 //
 // Why the list is complete and the corners exact. A triangle an accepted ray hits within its
-// interval meets R (shaft.h, PlaneSet's tolerance covers the float test's fuzz), hence meets the
+// interval meets R (region.h, PlaneSet's tolerance covers the float test's fuzz), hence meets the
 // box of a leaf listing it, and every ancestor of that leaf: a walk that enters each node whose
 // box may meet R tests it. The corners are accepted rays, so the same holds for every triangle a
 // corner hits before its current closest hit: the corners get trace_ray's (brute force's)
-// answers, as in rtt_corners.h (a superset of the leaves trace_ray visits).
+// answers, as in corner_pass.h (a superset of the leaves trace_ray visits).
 //
 // Closest hits do not know R's end before the corners have hit something. The walk starts with
 // the region of the shaft without an end and narrows it whenever a leaf shortened a corner
@@ -31,11 +31,11 @@
 #include <cstdint>
 #include <span>
 
-#include "geom/shaft.h"
 #include "geom/triangle_simd.h"
+#include "relevant_triangles/corner_pass.h"
+#include "relevant_triangles/region.h"
 #include "rtt/kdtree.h"
 #include "simd/simd.h"
-#include "trace/rtt_corners.h"
 
 namespace rtt {
 

@@ -1,0 +1,139 @@
+// The five conservative tests of RTT (Dmitriev, Havran, Seidel 2004, section 3) and the corners'
+// own watertight tests, in one pass over a triangle: a triangle is dropped from a tile's
+// relevant list only when NO ray the shaft accepts (shaft.h) can hit it. The error analysis
+// (slope space, margins) is in shaft.h's file comment.
+//
+// The five tests (paper: two plane tests, three barycentric tests)
+// ----------------------------------------------------------------
+// Edge ("barycentric") tests. The float test rejects a ray whose U, V, W have both a negative
+// and a positive value. A triangle is dropped when one of these holds at all 4 corners with the
+// margins above, hence for every checked ray:
+//   (a) some edge function < -M and another > +M                (mixed signs, both facings);
+//   (b) some edge function < -M and det = U + V + W > MU+MV+MW, or the mirror image: then the
+//       other two cannot both be <= 0 up to their error (they sum to more), so the signs mix.
+//       This is the paper's "barycentric coordinate negative" lambda = U / det < 0, written
+//       without the division (docs/design.md, "The five tests"): it needs det of one sign over the shaft.
+// Plane ("before start", "beyond end") tests, along the dominant axis. The float t is
+//     t = (U az + V bz + W cz) / det,  az = sz a[kz], ...
+// a weighted mean of the vertex depths az, bz, cz with weights U, V, W of one sign (the test
+// already failed otherwise); with rounding t lies in [min z (1 - 8.2u), max z (1 + 8.2u)] when
+// all depths share a sign. In the shaft's "kz offsets" o = a[kz] * sign(d[kz]) (distance along
+// the dominant axis, the same for every ray) and the ray's start and end offsets
+// tmin |d[kz]| and tmax |d[kz]|, whose ranges over the tile are checked per ray:
+//   (c) before the start: max o (1 + 16u) < lowest start offset, or max o < 0 (all vertices
+//       behind the apex: t < 0 <= tmin; assumes no product underflows to zero, i.e. vertex
+//       coordinates far from the denormal range);
+//   (d) beyond the end: min o (1 - 16u) > highest end offset.
+// These are the paper's plane tests in the form that bounds the float t (signs of points
+// against a plane, affine in the ray). They cannot drop a triangle that sticks out on both
+// sides of the shaft's start or end along kz; such triangles stay in the list, which is only
+// slower.
+//
+// Whole-tile occluder (shadows; docs/design.md, "Shadow segments"): U, V, W all > their margins (or all < minus
+// them) at the 4 corners and min o (1 - 16u) > highest start offset and max o (1 + 16u) < lowest
+// end offset: then every checked ray's float test accepts (signs agree, det != 0) with
+// t strictly inside its [tmin, tmax], so every segment of the tile is blocked.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "relevant_triangles/shaft.h"
+
+namespace rtt {
+
+/// One triangle against the 4 corners.
+struct CornerVerdict {
+    uint32_t hit = 0;         ///< Lanes whose watertight test hits within [tmin, lane tmax].
+    vfloat4 t;                ///< Their hit distances (other lanes: unspecified).
+    bool relevant = true;     ///< False: no checked ray of the shaft can hit the triangle.
+    bool blocks_all = false;  ///< Every checked ray hits it within its interval.
+    float min_offset = 0.f;   ///< Smallest kz offset of the vertices (see the file comment).
+};
+
+/// The corners' own watertight tests (exactly intersect_watertight, lane by lane, against
+/// [tmin, lane_tmax]) and the five conservative tests, sharing the sheared coordinates.
+/// WantBlocker: also decide blocks_all (shadows).
+template <bool WantBlocker>
+RTT_FORCEINLINE CornerVerdict test_corners(const Shaft& s, const TriangleVerts& tri,
+                                           vfloat4 lane_tmax) {
+    using vf = vfloat4;
+    constexpr float u = 0x1p-24f;
+    const Vec3f a3 = tri.v0 - s.org, b3 = tri.v1 - s.org,
+                c3 = tri.v2 - s.org;  // as the scalar test
+    const float akx = a3[s.kx], aky = a3[s.ky], akz = a3[s.kz];
+    const float bkx = b3[s.kx], bky = b3[s.ky], bkz = b3[s.kz];
+    const float ckx = c3[s.kx], cky = c3[s.ky], ckz = c3[s.kz];
+    const vf sx = vf::load(s.sx), sy = vf::load(s.sy);
+    const vf ax = vf(akx) - sx * vf(akz);
+    const vf ay = vf(aky) - sy * vf(akz);
+    const vf bx = vf(bkx) - sx * vf(bkz);
+    const vf by = vf(bky) - sy * vf(bkz);
+    const vf cx = vf(ckx) - sx * vf(ckz);
+    const vf cy = vf(cky) - sy * vf(ckz);
+    const vf U = cx * by - cy * bx;
+    const vf V = ax * cy - ay * cx;
+    const vf W = bx * ay - by * ax;
+    const vf zero(0.f);
+    CornerVerdict out;
+
+    // The corners' own tests: intersect_watertight() step for step.
+    const vbool4 some_neg = (U < zero) | (V < zero) | (W < zero);
+    const vbool4 some_pos = (U > zero) | (V > zero) | (W > zero);
+    const vf det = (U + V) + W;
+    vbool4 hit = andnot(det != zero, some_neg & some_pos);
+    if (any(hit)) {
+        const vf sz = vf::load(s.sz);
+        const vf az = sz * vf(akz), bz = sz * vf(bkz), cz = sz * vf(ckz);
+        out.t = ((U * az + V * bz) + W * cz) / det;
+        hit &= (out.t >= vf::load(s.tmin)) & (out.t <= lane_tmax);
+        out.hit = movemask(hit);
+    }
+
+    // A triangle a corner hits is relevant (the corners are accepted rays); its vertex offsets
+    // still matter to the primary end filter.
+    const float oa = akz * s.sign_z, ob = bkz * s.sign_z, oc = ckz * s.sign_z;
+    const float max_o = std::max({oa, ob, oc}), min_o = std::min({oa, ob, oc});
+    out.min_offset = min_o;
+    if (out.hit) {
+        out.relevant = true;
+        if (!WantBlocker || out.hit != 0xF) return out;
+    }
+
+    // Margins (file comment). nX: max-norm of the vertex; mX: max over corners of |x| + |y|.
+    const float nA = std::max({std::fabs(akx), std::fabs(aky), std::fabs(akz)});
+    const float nB = std::max({std::fabs(bkx), std::fabs(bky), std::fabs(bkz)});
+    const float nC = std::max({std::fabs(ckx), std::fabs(cky), std::fabs(ckz)});
+    const float grow = 2.f * s.eta + 8.f * u, keep = 1.f + 4.f * u;
+    const float mA = reduce_max(abs(ax) + abs(ay))[0] * keep + grow * nA;
+    const float mB = reduce_max(abs(bx) + abs(by))[0] * keep + grow * nB;
+    const float mC = reduce_max(abs(cx) + abs(cy))[0] * keep + grow * nC;
+    const float k1 = 6.f * u + s.eta, k2 = 10.f * u, fudge = 1.f + 0x1p-8f, tiny = 0x1p-100f;
+    const float MU = (k1 * (nC * mB + nB * mC) + k2 * mB * mC) * fudge + tiny;
+    const float MV = (k1 * (nA * mC + nC * mA) + k2 * mA * mC) * fudge + tiny;
+    const float MW = (k1 * (nB * mA + nA * mB) + k2 * mA * mB) * fudge + tiny;
+    const uint32_t u_neg = movemask(U < vf(-MU)), u_pos = movemask(U > vf(MU));
+    const uint32_t v_neg = movemask(V < vf(-MV)), v_pos = movemask(V > vf(MV));
+    const uint32_t w_neg = movemask(W < vf(-MW)), w_pos = movemask(W > vf(MW));
+    const bool any_neg = u_neg == 0xF || v_neg == 0xF || w_neg == 0xF;
+    const bool any_pos = u_pos == 0xF || v_pos == 0xF || w_pos == 0xF;
+    // det = (U + V) + W rounds by at most 2u (|U| + |V| + |W|).
+    const vf det_margin =
+        vf((MU + MV + MW) * fudge) + vf(2.f * u * fudge) * ((abs(U) + abs(V)) + abs(W));
+    const bool det_pos = movemask(det > det_margin) == 0xF;
+    const bool det_neg = movemask(det < -det_margin) == 0xF;
+
+    const bool before_start =
+        max_o < 0.f || max_o * (1.f + 16.f * u) < s.start_lo * (1.f - 4.f * u);
+    const bool beyond_end = min_o * (1.f - 16.f * u) > s.end_hi * (1.f + 4.f * u);
+    out.relevant = out.hit || !((any_neg && any_pos) || (det_pos && any_neg) ||
+                                (det_neg && any_pos) || before_start || beyond_end);
+    const bool inside = (u_pos == 0xF && v_pos == 0xF && w_pos == 0xF) ||
+                        (u_neg == 0xF && v_neg == 0xF && w_neg == 0xF);
+    out.blocks_all = inside && min_o * (1.f - 16.f * u) > s.start_hi * (1.f + 4.f * u) &&
+                     max_o * (1.f + 16.f * u) < s.end_lo * (1.f - 4.f * u);
+    return out;
+}
+
+}  // namespace rtt
