@@ -121,7 +121,7 @@ void check_tile(std::mt19937& rng, DenseTile& t, int triangles, Counts& c) {
     const vfloat4 lane_tmax = vfloat4::load(s.tmax);
     for (int k = 0; k < triangles; ++k) {
         const TriangleVerts tri = near_triangle(rng, t);
-        const CornerVerdict v = test_corners<true>(s, tri, lane_tmax);
+        const CornerVerdict v = test_corners<Query::any_hit>(s, tri, lane_tmax);
         if (!v.relevant) {
             ++c.rejected;
             for (const WatertightRay& w : accepted) {

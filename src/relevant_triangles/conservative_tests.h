@@ -54,10 +54,11 @@ struct CornerVerdict {
 
 /// The corners' own watertight tests (exactly intersect_watertight, lane by lane, against
 /// [tmin, lane_tmax]) and the five conservative tests, sharing the sheared coordinates.
-/// WantBlocker: also decide blocks_all (shadows).
-template <bool WantBlocker>
+/// Query::any_hit: also decide blocks_all (shadows).
+template <Query Q>
 RTT_FORCEINLINE CornerVerdict test_corners(const Shaft& s, const TriangleVerts& tri,
                                            vfloat4 lane_tmax) {
+    constexpr bool WantBlocker = Q == Query::any_hit;
     using vf = vfloat4;
     constexpr float u = 0x1p-24f;
     const Vec3f a3 = tri.v0 - s.org, b3 = tri.v1 - s.org,

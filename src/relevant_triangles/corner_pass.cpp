@@ -1,6 +1,7 @@
 #include "relevant_triangles/corner_pass.h"
 
 #include "geom/triangle_simd.h"
+#include "relevant_triangles/tolerances.h"
 #include "trace/trace_ray.h"
 
 namespace rtt {
@@ -20,10 +21,11 @@ struct alignas(16) CornerStackEntry {
 
 }  // namespace
 
-template <bool AnyHit, bool Lean>
+template <Query Q, CornerPass P>
 CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> triangles,
                            Shaft& shaft, const ShaftRegion* region, const Ray (&corners)[4],
                            TriangleMailbox& mailbox, CornerResult& out) {
+    constexpr bool AnyHit = Q == Query::any_hit, Lean = P == CornerPass::lean;
     out.reset();
     mailbox.begin(triangles.size());
     if (tree.nodes.empty()) return CornerStatus::traced;
@@ -42,7 +44,7 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
         zero_dir[a] = dir[a] == vf(0.f);
     }
     const float behind_margin =
-        0x1p-18f * 3.f *
+        tolerance::box_test * 3.f *
         std::max({std::fabs(tree.bounds.lo.x - org.x), std::fabs(tree.bounds.hi.x - org.x),
                   std::fabs(tree.bounds.lo.y - org.y), std::fabs(tree.bounds.hi.y - org.y),
                   std::fabs(tree.bounds.lo.z - org.z), std::fabs(tree.bounds.hi.z - org.z)});
@@ -198,8 +200,8 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
             if (!complete_shaft(shaft)) return CornerStatus::untraced;
             // Every lane tests every triangle met: a superset of the leaves trace_ray visits
             // per lane, which returns the same answers (trace_ray.h).
-            const CornerVerdict v = test_corners<AnyHit>(shaft, triangles[id], lane_tmax);
-            switch (take_verdict<AnyHit>(v, id, out, best, lane_tmax, closer)) {
+            const CornerVerdict v = test_corners<Q>(shaft, triangles[id], lane_tmax);
+            switch (take_verdict<Q>(v, id, out, best, lane_tmax, closer)) {
                 case VerdictTaken::ok: break;
                 case VerdictTaken::blocked: return CornerStatus::blocked;
                 case VerdictTaken::all_blocked: return CornerStatus::overflow;
@@ -212,13 +214,13 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
     return listing ? CornerStatus::traced : CornerStatus::overflow;
 }
 
-template CornerStatus trace_corners<false, true>(const KdTree&, std::span<const TriangleVerts>,
+template CornerStatus trace_corners<Query::closest_hit, CornerPass::lean>(const KdTree&, std::span<const TriangleVerts>,
                                                  Shaft&, const ShaftRegion*, const Ray (&)[4],
                                                  TriangleMailbox&, CornerResult&);
-template CornerStatus trace_corners<false>(const KdTree&, std::span<const TriangleVerts>, Shaft&,
+template CornerStatus trace_corners<Query::closest_hit>(const KdTree&, std::span<const TriangleVerts>, Shaft&,
                                            const ShaftRegion*, const Ray (&)[4], TriangleMailbox&,
                                            CornerResult&);
-template CornerStatus trace_corners<true>(const KdTree&, std::span<const TriangleVerts>, Shaft&,
+template CornerStatus trace_corners<Query::any_hit>(const KdTree&, std::span<const TriangleVerts>, Shaft&,
                                           const ShaftRegion*, const Ray (&)[4], TriangleMailbox&,
                                           CornerResult&);
 

@@ -99,6 +99,10 @@ struct CornerResult {
     }
 };
 
+/// How a corner pass treats the paper's incoherence flag: as a statistic (paper: the pass goes
+/// on and shaft culling covers what the corners left out) or as the end of the pass (lean).
+enum class CornerPass { paper, lean };
+
 /// What taking one triangle's corner verdict did to a corner pass.
 enum class VerdictTaken {
     ok,
@@ -111,9 +115,10 @@ enum class VerdictTaken {
 /// blockers into `out.occluded`, or closer hits into `best` with `lane_tmax` following
 /// (inclusive, as trace_ray; `closer` set when some corner's hit came nearer); a relevant
 /// triangle is appended to `out.list`. Callers decide what a stop means for their pass.
-template <bool AnyHit>
+template <Query Q>
 inline VerdictTaken take_verdict(const CornerVerdict& v, uint32_t id, CornerResult& out,
                                  PacketHit<4>& best, vfloat4& lane_tmax, bool& closer) {
+    constexpr bool AnyHit = Q == Query::any_hit;
     if constexpr (AnyHit) {
         out.occluded |= v.hit;
         if (v.blocks_all) {
@@ -139,29 +144,29 @@ inline VerdictTaken take_verdict(const CornerVerdict& v, uint32_t id, CornerResu
 }
 
 /// Traces the shaft's corners `corners` (corner_sample order, the rays `shaft` was made from).
-/// AnyHit = false: closest hits, lanes terminating as trace_ray's do (`out.hit`); true: shadow
-/// segments (`out.occluded`), traced to their ends (no early exit) unless one triangle blocks
-/// every accepted segment. Starts a new mailbox tile. The corners' answers are valid unless
+/// Query::closest_hit: closest hits, lanes terminating as trace_ray's do (`out.hit`); any_hit:
+/// shadow segments (`out.occluded`), traced to their ends (no early exit) unless one triangle
+/// blocks every accepted segment. Starts a new mailbox tile. The corners' answers are valid unless
 /// `untraced`.
-/// Nodes no lane enters are deferred (AnyHit: only when their box meets `*region`, which must
+/// Nodes no lane enters are deferred (any_hit: only when their box meets `*region`, which must
 /// hold every point of every segment answered from the list; unused, may be null, for closest
 /// hits).
-/// Lean (closest hits, "rtt" at K = 1 and 2): the paper's incoherence flag ends the pass at once
-/// (`untraced`).
+/// CornerPass::lean (closest hits, "rtt" at K = 1 and 2): the paper's incoherence flag ends the
+/// pass at once (`untraced`).
 /// `shaft` may lack its quad (make_shaft_corners only): it is completed (make_shaft_quad) when
 /// the first triangle is tested, which most passes that give up never reach; a refused quad
 /// ends the pass (`untraced`).
-template <bool AnyHit, bool Lean = false>
+template <Query Q, CornerPass P = CornerPass::paper>
 CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> triangles,
                            Shaft& shaft, const ShaftRegion* region, const Ray (&corners)[4],
                            TriangleMailbox& mailbox, CornerResult& out);
 
 /// Completes the list of a `traced` result by shaft culling of its deferred nodes against
 /// `region`, which must hold every point of every ray answered from the list. Returns `traced`
-/// (list complete), `blocked` (AnyHit: `out.blocker` blocks every accepted segment) or
+/// (list complete), `blocked` (any_hit: `out.blocker` blocks every accepted segment) or
 /// `overflow` (the list overflowed, or more than `budget` nodes had to be entered: a tile so
 /// incoherent that tracing its rays is cheaper).
-template <bool AnyHit>
+template <Query Q>
 CornerStatus collect_deferred(const KdTree& tree, std::span<const TriangleVerts> triangles,
                               const Shaft& shaft, const ShaftRegion& region, int budget,
                               TriangleMailbox& mailbox, CornerResult& out);

@@ -7,10 +7,11 @@
 
 namespace rtt {
 
-template <bool AnyHit>
+template <Query Q>
 CornerStatus collect_deferred(const KdTree& tree, std::span<const TriangleVerts> triangles,
                               const Shaft& shaft, const ShaftRegion& region, int budget,
                               TriangleMailbox& mailbox, CornerResult& out) {
+    constexpr bool AnyHit = Q == Query::any_hit;
     const vfloat4 lane_tmax = vfloat4::load(shaft.tmax);
     const vbool4 lane_of[3] = {vbool4::from_bits(1), vbool4::from_bits(2), vbool4::from_bits(4)};
     DeferredNode stack[kd_max_depth + 1];
@@ -70,7 +71,7 @@ CornerStatus collect_deferred(const KdTree& tree, std::span<const TriangleVerts>
                         tb.hi =
                             max(max(BoxV::lanes(tri.v0), BoxV::lanes(tri.v1)), BoxV::lanes(tri.v2));
                         if (!region.meets(tb)) continue;
-                        const CornerVerdict v = test_corners<AnyHit>(shaft, tri, lane_tmax);
+                        const CornerVerdict v = test_corners<Q>(shaft, tri, lane_tmax);
                         if constexpr (AnyHit) {
                             if (v.blocks_all) {
                                 out.blocker = id;
@@ -91,10 +92,10 @@ CornerStatus collect_deferred(const KdTree& tree, std::span<const TriangleVerts>
     return CornerStatus::traced;
 }
 
-template CornerStatus collect_deferred<false>(const KdTree&, std::span<const TriangleVerts>,
+template CornerStatus collect_deferred<Query::closest_hit>(const KdTree&, std::span<const TriangleVerts>,
                                               const Shaft&, const ShaftRegion&, int,
                                               TriangleMailbox&, CornerResult&);
-template CornerStatus collect_deferred<true>(const KdTree&, std::span<const TriangleVerts>,
+template CornerStatus collect_deferred<Query::any_hit>(const KdTree&, std::span<const TriangleVerts>,
                                              const Shaft&, const ShaftRegion&, int,
                                              TriangleMailbox&, CornerResult&);
 

@@ -6,6 +6,7 @@
 #include <string>
 #include <type_traits>
 
+#include "relevant_triangles/tolerances.h"
 #include "rtt/error.h"
 #include "relevant_triangles/inner_rays.h"
 #include "relevant_triangles/rtt_tracer.h"
@@ -51,13 +52,13 @@ bool RttTracer::primary_end(const Shaft& shaft, const Ray (&corners)[4], const v
         end = std::max(end, t[i] * std::fabs(corners[i].dir[shaft.kz]));
         dist = std::max(dist, t[i] * length(corners[i].dir));
     }
-    e.end_limit = end * (1.f + 0x1p-10f);
+    e.end_limit = end * (1.f + tolerance::end_offset);
     const uint32_t plane = planes_.id[uint32_t(tri[0])];
     for (int i = 1; i < 4; ++i)
         if (plane == no_plane || planes_.id[uint32_t(tri[i])] != plane) return true;
     if (!normals_.facing(plane, shaft.org, e.plane)) return true;
     e.plane_id = plane;
-    e.end_tol = 0x1p-14f * (e.plane.h + dist);
+    e.end_tol = tolerance::end_plane * (e.plane.h + dist);
     return true;
 }
 
@@ -110,7 +111,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         // enters are deferred untested and shaft culled against R afterwards, 16 boxes per test
         // (collect_deferred, within deferred_budget). Exact as rtt-paper: every leaf whose box
         // may meet R is tested (corner_pass.h).
-        const CornerStatus status = trace_corners<false, true>(tree_, triangles_, shaft, nullptr,
+        const CornerStatus status = trace_corners<Query::closest_hit, CornerPass::lean>(tree_, triangles_, shaft, nullptr,
                                                                corners, tls_mailbox, res);
         if (status == CornerStatus::untraced) {
             trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
@@ -122,7 +123,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
                  end.plane_id != no_plane && complete_shaft(shaft);
         if (listed) {
             region.emplace(primary_region(shaft, end));
-            listed = collect_deferred<false>(tree_, triangles_, shaft, *region, deferred_budget(n),
+            listed = collect_deferred<Query::closest_hit>(tree_, triangles_, shaft, *region, deferred_budget(n),
                                              tls_mailbox, res) == CornerStatus::traced;
         }
     } else if (extended_) {
@@ -152,7 +153,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
             narrow_to(r, e);
             return Narrowed::smaller;
         };
-        const CornerStatus status = cull_shaft<false>(
+        const CornerStatus status = cull_shaft<Query::closest_hit>(
             tree_, triangles_, shaft, walk_region,
             walk_budget(n, is_region(tile.width, tile.height, tile.cell)), tls_mailbox, res,
             narrow);
@@ -174,7 +175,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         }
     } else {
         CornerStatus status =
-            trace_corners<false>(tree_, triangles_, shaft, nullptr, corners, tls_mailbox, res);
+            trace_corners<Query::closest_hit>(tree_, triangles_, shaft, nullptr, corners, tls_mailbox, res);
         if (status == CornerStatus::untraced) {
             RayPacket<4> p;
             for (int i = 0; i < 4; ++i) p.set(i, corners[i]);
@@ -187,7 +188,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         listed =
             status == CornerStatus::traced && one_triangle && res.coherent &&
             primary_end(shaft, corners, res.hit, end) && end.plane_id != no_plane &&
-            collect_deferred<false>(tree_, triangles_, shaft, primary_region(shaft, end),
+            collect_deferred<Query::closest_hit>(tree_, triangles_, shaft, primary_region(shaft, end),
                                     deferred_budget(n), tls_mailbox, res) == CornerStatus::traced;
     }
 

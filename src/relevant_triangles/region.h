@@ -4,6 +4,7 @@
 #pragma once
 
 #include "relevant_triangles/shaft.h"
+#include "relevant_triangles/tolerances.h"
 
 namespace rtt {
 
@@ -174,7 +175,7 @@ private:
     }
     vfloat4 tolerance(const PlaneSet& p) const {
         using vf = vfloat4;
-        return vf(0x1p-18f) * ((abs(p.nx) * vf(extent_.x) + abs(p.ny) * vf(extent_.y)) +
+        return vf(tolerance::box_test) * ((abs(p.nx) * vf(extent_.x) + abs(p.ny) * vf(extent_.y)) +
                                abs(p.nz) * vf(extent_.z));
     }
     void load_slab() {
@@ -187,7 +188,7 @@ private:
     }
     /// `bounds` for offsets [c_[0], -c_[1]] (class comment); unbounded without an end.
     void load_bounds() {
-        const vfloat4 tol = vfloat4(0x1p-18f) * BoxV::lanes(extent_);
+        const vfloat4 tol = vfloat4(tolerance::box_test) * BoxV::lanes(extent_);
         for (int a = 0; a < 3; ++a) slice_tol_[a] = tol[a];
         const float o_lo = c_[0], o_hi = -c_[1];
         if (!(o_hi < pos_inf)) {

@@ -65,6 +65,7 @@
 #include "relevant_triangles/corner_pass.h"
 #include "relevant_triangles/region.h"
 #include "relevant_triangles/tile.h"
+#include "relevant_triangles/tolerances.h"
 #include "rtt/tracer.h"
 #include "simd/simd.h"
 
@@ -89,7 +90,7 @@ inline bool takes_lean_pass(int n, int lean_max_samples, const Ray (&corners)[4]
         if (c.tmin != 0.f) return false;
     return true;
 }
-inline constexpr float unit_roundoff = 0x1p-24f;
+using tolerance::unit_roundoff;
 
 /// Per-thread scratch (tracers are called concurrently): the mailbox of the current tile and
 /// the corners' result with its list and deferred nodes (too big for the stack of a tile call).

@@ -5,6 +5,7 @@
 
 #include "relevant_triangles/inner_rays.h"
 #include "relevant_triangles/rtt_tracer.h"
+#include "relevant_triangles/tolerances.h"
 #include "relevant_triangles/walk.h"
 #include "simd/lane_bytes.h"
 #include "trace/packet_blocks.h"
@@ -91,7 +92,7 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
         return;
     }
     const float tmax = corners[0].tmax;
-    const float receiver_tol = (1.f - tmax) * receiver.h * 0.25f;
+    const float receiver_tol = (1.f - tmax) * receiver.h * tolerance::receiver_gap;
     ShaftRegion region(shaft, tree_.bounds, shaft.start_lo, shaft.end_hi);
     region.add_end_plane(receiver.n, -tmax * (receiver.h + receiver_tol) * (1.f + 0x1p-20f));
     CornerResult& res = tls_corners;
@@ -108,7 +109,7 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
                 return;
             }
         status =
-            cull_shaft<true>(tree_, triangles_, shaft, region,
+            cull_shaft<Query::any_hit>(tree_, triangles_, shaft, region,
                              walk_budget(n, is_region(tile.width, tile.height, tile.cell)),
                              tls_mailbox, res,
                              [](const PacketHit<4>&, ShaftRegion&) { return Narrowed::same; });
@@ -117,7 +118,7 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
             return;
         }
     } else {
-        status = trace_corners<true>(tree_, triangles_, shaft, &region, corners, tls_mailbox, res);
+        status = trace_corners<Query::any_hit>(tree_, triangles_, shaft, &region, corners, tls_mailbox, res);
         if (status == CornerStatus::untraced) {
             RayPacket<4> p;
             for (int i = 0; i < 4; ++i) p.set(i, corners[i]);
@@ -127,7 +128,7 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
     for (int i = 0; i < 4; ++i)
         if (tile.active[cs[i]]) visible[cs[i]] = !((res.occluded >> i) & 1u);
     if (status == CornerStatus::traced && !extended_ && res.coherent)
-        status = collect_deferred<true>(tree_, triangles_, shaft, region, deferred_budget(n),
+        status = collect_deferred<Query::any_hit>(tree_, triangles_, shaft, region, deferred_budget(n),
                                         tls_mailbox, res);
     SampleBits need(n);
     if ((status == CornerStatus::traced && (extended_ || res.coherent)) ||

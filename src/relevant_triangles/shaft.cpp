@@ -3,6 +3,7 @@
 #include <bit>
 
 #include "geom/triangle_simd.h"
+#include "relevant_triangles/tolerances.h"
 
 namespace rtt {
 namespace {
@@ -13,9 +14,6 @@ bool same_bits(const Vec3f& a, const Vec3f& b) {
            std::bit_cast<uint32_t>(a.z) == std::bit_cast<uint32_t>(b.z);
 }
 
-/// Largest move (max-norm, slope units) of a corner of the slope quad allowed before a shaft is
-/// refused: beyond it the quad is so acute that the margins would reject almost nothing.
-constexpr float max_eta = 0x1p-10f;
 
 }  // namespace
 
@@ -56,7 +54,7 @@ bool make_shaft_corners(const Ray (&c)[4], Shaft& s) {
         eo_lo = std::min(eo_lo, eo);
         eo_hi = std::max(eo_hi, eo);
     }
-    constexpr float widen = 0x1p-16f;
+    constexpr float widen = tolerance::offset_range;
     s.start_lo = so_lo * (1.f - widen);
     s.start_hi = so_hi * (1.f + widen);
     s.end_lo = eo_lo * (1.f - widen);
@@ -94,17 +92,17 @@ bool make_shaft_quad(Shaft& s) {
     const vf cc = nx * px + ny * py;
     store(s.edge_nx, nx);
     store(s.edge_ny, ny);
-    store(s.edge_c, cc - vf(shaft_slope_tolerance));
+    store(s.edge_c, cc - vf(tolerance::slope));
     // Moving the lines out by `grown` moves corner m (edges p = m - 1 and m meet there) by v
     // with n_p . v = n_m . v = -grown: v = -grown (n_p + n_m) / (1 + n_p . n_m).
-    const float grown = shaft_slope_tolerance + 0x1p-20f;
+    const float grown = tolerance::slope + 0x1p-20f;
     const vf inv_len_prev = vf(o) / sqrt(ex_prev * ex_prev + ey_prev * ey_prev);
     const vf pnx = -ey_prev * inv_len_prev, pny = ex_prev * inv_len_prev;  // normal of edge m - 1
     const vf cosine = vf(1.f) + (pnx * nx + pny * ny);
     if (!all(cosine > vf(1e-6f))) return false;
     const vf move = vf(grown) * max(abs(pnx + nx), abs(pny + ny)) / cosine;
     const float eta = reduce_max(move)[0];
-    if (!(eta <= max_eta)) return false;
+    if (!(eta <= tolerance::max_quad_move)) return false;
     // Rounding in the computation above is below 2^-20 relative; the factor covers it.
     s.eta = eta * (1.f + 0x1p-16f);
     // A point org + t d (t > 0) has slopes d[kx] / d[kz], d[ky] / d[kz] exactly, within u of the

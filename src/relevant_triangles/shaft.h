@@ -54,9 +54,10 @@ inline int corner_sample(int width, int height, int lane) {
     return y * width + x;
 }
 
-/// Slope tolerance of the per-ray check: a ray whose float slopes lie this far outside the
-/// corners' slope quad is still answered from the list (border samples round by a few ulps).
-inline constexpr float shaft_slope_tolerance = 0x1p-20f;
+
+/// What a shaft's rays ask: their closest hits (primary and reflected rays) or whether anything
+/// blocks them (shadow segments).
+enum class Query { closest_hit, any_hit };
 
 struct alignas(16) Shaft {
     // Corner shear constants, bit-identical to WatertightRay of each corner ray (lanes 0..3).

@@ -47,21 +47,22 @@ enum class Narrowed {
 };
 
 /// Walks the kd-tree through the shaft (file comment). The corners of `shaft` are traced as
-/// test_corners traces them: AnyHit = false closest hits (out.hit), true occluded segments
+/// test_corners traces them: Query::closest_hit closest hits (out.hit), any_hit occluded segments
 /// (out.occluded, to their ends unless one triangle blocks them all). `region` must hold every
-/// point of every accepted ray up to its answer (AnyHit: to its end); `narrow(best, region)`
+/// point of every accepted ray up to its answer (any_hit: to its end); `narrow(best, region)`
 /// (closest hits only) may replace it by a smaller one after the corners' hits changed.
 /// Returns
 ///   traced:   corners answered; out.list holds every triangle an accepted ray can hit in the
 ///             last region;
-///   blocked:  (AnyHit) out.blocker blocks every accepted segment; corners answered;
-///   overflow: (AnyHit) all 4 corners blocked, by different triangles; corners answered, no list;
+///   blocked:  (any_hit) out.blocker blocks every accepted segment; corners answered;
+///   overflow: (any_hit) all 4 corners blocked, by different triangles; corners answered, no list;
 ///   untraced: gave up (more than `budget` nodes, a full list, or `narrow` said so): nothing
 ///             is answered, not even the corners.
-template <bool AnyHit, typename Narrow>
+template <Query Q, typename Narrow>
 CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> triangles,
                         const Shaft& shaft, ShaftRegion& region, int budget,
                         TriangleMailbox& mailbox, CornerResult& out, Narrow&& narrow) {
+    constexpr bool AnyHit = Q == Query::any_hit;
     constexpr int W = simd_max_width >= 8 ? 8 : 4;  // lanes per vector
     constexpr int C = 8 / W;                        // vectors per 8 half-spaces
     using vf = vfloat<W>;
@@ -255,8 +256,8 @@ CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> trian
             // A triangle whose box misses the region cannot be hit by an accepted ray, nor by a
             // corner before its current hit (the region only shrinks: it stays missed).
             if (!triangle_meets(tri)) continue;
-            const CornerVerdict cv = test_corners<AnyHit>(shaft, tri, lane_tmax);
-            switch (take_verdict<AnyHit>(cv, id, out, best, lane_tmax, shortened)) {
+            const CornerVerdict cv = test_corners<Q>(shaft, tri, lane_tmax);
+            switch (take_verdict<Q>(cv, id, out, best, lane_tmax, shortened)) {
                 case VerdictTaken::ok: break;
                 case VerdictTaken::blocked: return CornerStatus::blocked;
                 case VerdictTaken::all_blocked: return CornerStatus::overflow;
