@@ -12,7 +12,8 @@
 //   (b) some edge function < -M and det = U + V + W > MU+MV+MW, or the mirror image: then the
 //       other two cannot both be <= 0 up to their error (they sum to more), so the signs mix.
 //       This is the paper's "barycentric coordinate negative" lambda = U / det < 0, written
-//       without the division (docs/design.md, "The five tests"): it needs det of one sign over the shaft.
+//       without the division (docs/design.md, "The five tests"): it needs det of one sign over the
+//       shaft.
 // Plane ("before start", "beyond end") tests, along the dominant axis. The float t is
 //     t = (U az + V bz + W cz) / det,  az = sz a[kz], ...
 // a weighted mean of the vertex depths az, bz, cz with weights U, V, W of one sign (the test
@@ -29,10 +30,10 @@
 // sides of the shaft's start or end along kz; such triangles stay in the list, which is only
 // slower.
 //
-// Whole-tile occluder (shadows; docs/design.md, "Shadow segments"): U, V, W all > their margins (or all < minus
-// them) at the 4 corners and min o (1 - 16u) > highest start offset and max o (1 + 16u) < lowest
-// end offset: then every checked ray's float test accepts (signs agree, det != 0) with
-// t strictly inside its [tmin, tmax], so every segment of the tile is blocked.
+// Whole-tile occluder (shadows; docs/design.md, "Shadow segments"): U, V, W all > their margins (or
+// all < minus them) at the 4 corners and min o (1 - 16u) > highest start offset and max o (1 + 16u)
+// < lowest end offset: then every checked ray's float test accepts (signs agree, det != 0) with t
+// strictly inside its [tmin, tmax], so every segment of the tile is blocked.
 #pragma once
 
 #include <algorithm>

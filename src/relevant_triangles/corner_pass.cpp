@@ -214,14 +214,15 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
     return listing ? CornerStatus::traced : CornerStatus::overflow;
 }
 
-template CornerStatus trace_corners<Query::closest_hit, CornerPass::lean>(const KdTree&, std::span<const TriangleVerts>,
-                                                 Shaft&, const ShaftRegion*, const Ray (&)[4],
-                                                 TriangleMailbox&, CornerResult&);
-template CornerStatus trace_corners<Query::closest_hit>(const KdTree&, std::span<const TriangleVerts>, Shaft&,
-                                           const ShaftRegion*, const Ray (&)[4], TriangleMailbox&,
-                                           CornerResult&);
-template CornerStatus trace_corners<Query::any_hit>(const KdTree&, std::span<const TriangleVerts>, Shaft&,
-                                          const ShaftRegion*, const Ray (&)[4], TriangleMailbox&,
-                                          CornerResult&);
+template CornerStatus trace_corners<Query::closest_hit, CornerPass::lean>(
+    const KdTree&, std::span<const TriangleVerts>, Shaft&, const ShaftRegion*, const Ray (&)[4],
+    TriangleMailbox&, CornerResult&);
+template CornerStatus trace_corners<Query::closest_hit>(const KdTree&,
+                                                        std::span<const TriangleVerts>, Shaft&,
+                                                        const ShaftRegion*, const Ray (&)[4],
+                                                        TriangleMailbox&, CornerResult&);
+template CornerStatus trace_corners<Query::any_hit>(const KdTree&, std::span<const TriangleVerts>,
+                                                    Shaft&, const ShaftRegion*, const Ray (&)[4],
+                                                    TriangleMailbox&, CornerResult&);
 
 }  // namespace rtt

@@ -1,8 +1,9 @@
 // RTT's corner traversal (paper section 3; docs/design.md, "Coverage"), used by "rtt-paper" and by
-// "rtt" at K = 1 and 2 (Lean; larger tiles walk the shaft instead, walk.h, sharing the types below): the 4 corner rays of a
-// shaft go through the kd-tree as one SSE packet, with trace_ray's semantics per lane (they are
-// answers too), and every triangle of every leaf they reach is put through the shaft's five
-// conservative tests (conservative_tests.h) to build the tile's relevant list.
+// "rtt" at K = 1 and 2 (Lean; larger tiles walk the shaft instead, walk.h, sharing the types
+// below): the 4 corner rays of a shaft go through the kd-tree as one SSE packet, with trace_ray's
+// semantics per lane (they are answers too), and every triangle of every leaf they reach is put
+// through the shaft's five conservative tests (conservative_tests.h) to build the tile's relevant
+// list.
 //
 // Why the list holds every triangle an inner ray can hit. The paper argues by coherence: if the
 // 4 corners visit exactly the same nodes with the same decisions, the inner rays of the convex

@@ -92,11 +92,13 @@ CornerStatus collect_deferred(const KdTree& tree, std::span<const TriangleVerts>
     return CornerStatus::traced;
 }
 
-template CornerStatus collect_deferred<Query::closest_hit>(const KdTree&, std::span<const TriangleVerts>,
-                                              const Shaft&, const ShaftRegion&, int,
-                                              TriangleMailbox&, CornerResult&);
-template CornerStatus collect_deferred<Query::any_hit>(const KdTree&, std::span<const TriangleVerts>,
-                                             const Shaft&, const ShaftRegion&, int,
-                                             TriangleMailbox&, CornerResult&);
+template CornerStatus collect_deferred<Query::closest_hit>(const KdTree&,
+                                                           std::span<const TriangleVerts>,
+                                                           const Shaft&, const ShaftRegion&, int,
+                                                           TriangleMailbox&, CornerResult&);
+template CornerStatus collect_deferred<Query::any_hit>(const KdTree&,
+                                                       std::span<const TriangleVerts>, const Shaft&,
+                                                       const ShaftRegion&, int, TriangleMailbox&,
+                                                       CornerResult&);
 
 }  // namespace rtt

@@ -147,9 +147,8 @@ struct ApexList {
     template <int K>
     RTT_FORCEINLINE RelativeTriangle<K> get(int j) const {
         const float* r = rel[j];
-        return {vfloat<K>(r[0]), vfloat<K>(r[1]), vfloat<K>(r[2]),
-                vfloat<K>(r[3]), vfloat<K>(r[4]), vfloat<K>(r[5]),
-                vfloat<K>(r[6]), vfloat<K>(r[7]), vfloat<K>(r[8])};
+        return {vfloat<K>(r[0]), vfloat<K>(r[1]), vfloat<K>(r[2]), vfloat<K>(r[3]), vfloat<K>(r[4]),
+                vfloat<K>(r[5]), vfloat<K>(r[6]), vfloat<K>(r[7]), vfloat<K>(r[8])};
     }
 };
 

@@ -6,11 +6,11 @@
 #include <string>
 #include <type_traits>
 
-#include "relevant_triangles/tolerances.h"
-#include "rtt/error.h"
 #include "relevant_triangles/inner_rays.h"
 #include "relevant_triangles/rtt_tracer.h"
+#include "relevant_triangles/tolerances.h"
 #include "relevant_triangles/walk.h"
+#include "rtt/error.h"
 #include "trace/factories.h"
 #include "trace/packet_blocks.h"
 #include "trace/trace_packet.h"
@@ -102,7 +102,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
     CornerResult& res = tls_corners;
     PrimaryEnd end;
     bool listed = false;
-    bool open = false;  // listed by a walk that completed without an end
+    bool open = false;                  // listed by a walk that completed without an end
     std::optional<ShaftRegion> region;  // primary_region(shaft, end), once it is built
     if (lean) {
         // Small tiles (takes_lean_pass): the paper's procedure, leaner than the walk. The
@@ -111,8 +111,8 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         // enters are deferred untested and shaft culled against R afterwards, 16 boxes per test
         // (collect_deferred, within deferred_budget). Exact as rtt-paper: every leaf whose box
         // may meet R is tested (corner_pass.h).
-        const CornerStatus status = trace_corners<Query::closest_hit, CornerPass::lean>(tree_, triangles_, shaft, nullptr,
-                                                               corners, tls_mailbox, res);
+        const CornerStatus status = trace_corners<Query::closest_hit, CornerPass::lean>(
+            tree_, triangles_, shaft, nullptr, corners, tls_mailbox, res);
         if (status == CornerStatus::untraced) {
             trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
             return;
@@ -123,8 +123,9 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
                  end.plane_id != no_plane && complete_shaft(shaft);
         if (listed) {
             region.emplace(primary_region(shaft, end));
-            listed = collect_deferred<Query::closest_hit>(tree_, triangles_, shaft, *region, deferred_budget(n),
-                                             tls_mailbox, res) == CornerStatus::traced;
+            listed = collect_deferred<Query::closest_hit>(tree_, triangles_, shaft, *region,
+                                                          deferred_budget(n), tls_mailbox,
+                                                          res) == CornerStatus::traced;
         }
     } else if (extended_) {
         // One walk through the shaft (walk.h), narrowed as the corners' hits come nearer.
@@ -174,8 +175,8 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
             end.plane_id = no_plane;
         }
     } else {
-        CornerStatus status =
-            trace_corners<Query::closest_hit>(tree_, triangles_, shaft, nullptr, corners, tls_mailbox, res);
+        CornerStatus status = trace_corners<Query::closest_hit>(tree_, triangles_, shaft, nullptr,
+                                                                corners, tls_mailbox, res);
         if (status == CornerStatus::untraced) {
             RayPacket<4> p;
             for (int i = 0; i < 4; ++i) p.set(i, corners[i]);
@@ -185,17 +186,17 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         const bool one_triangle = res.hit[1].tri == res.hit[0].tri &&
                                   res.hit[2].tri == res.hit[0].tri &&
                                   res.hit[3].tri == res.hit[0].tri;
-        listed =
-            status == CornerStatus::traced && one_triangle && res.coherent &&
-            primary_end(shaft, corners, res.hit, end) && end.plane_id != no_plane &&
-            collect_deferred<Query::closest_hit>(tree_, triangles_, shaft, primary_region(shaft, end),
-                                    deferred_budget(n), tls_mailbox, res) == CornerStatus::traced;
+        listed = status == CornerStatus::traced && one_triangle && res.coherent &&
+                 primary_end(shaft, corners, res.hit, end) && end.plane_id != no_plane &&
+                 collect_deferred<Query::closest_hit>(
+                     tree_, triangles_, shaft, primary_region(shaft, end), deferred_budget(n),
+                     tls_mailbox, res) == CornerStatus::traced;
     }
 
     SampleBits need(n);
     if (listed) {
-        // "Beyond the end" (conservative_tests.h, test (d)): a triangle whose vertices all lie beyond
-        // end_limit along kz cannot be hit inside R; nor can one whose bounding box misses R
+        // "Beyond the end" (conservative_tests.h, test (d)): a triangle whose vertices all lie
+        // beyond end_limit along kz cannot be hit inside R; nor can one whose bounding box misses R
         // (the walk's own rule, walk.h; the walk may have listed it under a larger region).
         RelevantList& list = res.list;
         if (!open && !region) region.emplace(primary_region(shaft, end));
@@ -303,13 +304,18 @@ uint64_t RttTracer::answer_primary(const RayTile& tile, const Shaft& s, const Re
 
 void RttOptions::validate() const {
     if (walk_budget_base < 1 || walk_budget_per_sample < 0 || deferred_budget_base < 1)
-        throw Error("RttOptions: the walk and deferred budgets must be at least 1 node (per-sample part >= 0)");
-    if (region_budget_divisor < 1) throw Error("RttOptions: region_budget_divisor must be at least 1");
+        throw Error(
+            "RttOptions: the walk and deferred budgets must be at least 1 node (per-sample part >= "
+            "0)");
+    if (region_budget_divisor < 1)
+        throw Error("RttOptions: region_budget_divisor must be at least 1");
     if (lean_max_samples < 0 || lean_max_samples > rtt_max_samples_per_tile)
-        throw Error("RttOptions: lean_max_samples must be in 0.." + std::to_string(rtt_max_samples_per_tile));
+        throw Error("RttOptions: lean_max_samples must be in 0.." +
+                    std::to_string(rtt_max_samples_per_tile));
 }
 
-std::unique_ptr<Tracer> make_rtt_tracer(const Scene& scene, const KdTree& tree, const RttOptions& options) {
+std::unique_ptr<Tracer> make_rtt_tracer(const Scene& scene, const KdTree& tree,
+                                        const RttOptions& options) {
     options.validate();
     return std::make_unique<rtt_detail::RttTracer>(scene, tree, options);
 }

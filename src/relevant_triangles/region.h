@@ -176,7 +176,7 @@ private:
     vfloat4 tolerance(const PlaneSet& p) const {
         using vf = vfloat4;
         return vf(tolerance::box_test) * ((abs(p.nx) * vf(extent_.x) + abs(p.ny) * vf(extent_.y)) +
-                               abs(p.nz) * vf(extent_.z));
+                                          abs(p.nz) * vf(extent_.z));
     }
     void load_slab() {
         using vf = vfloat4;
@@ -215,8 +215,8 @@ private:
     float slope_lo_[2], slope_hi_[2];  // slopes along kx, ky over the grown quad
     float slice_tol_[3];
     Vec3f extent_;
-    float n_[4][3] = {};                               // unused lanes: n = 0,
-    float c_[4] = {0.f, 0.f, -1.f, -1.f};              // c = -1: never separating
+    float n_[4][3] = {};                   // unused lanes: n = 0,
+    float c_[4] = {0.f, 0.f, -1.f, -1.f};  // c = -1: never separating
 };
 
 }  // namespace rtt

@@ -40,10 +40,10 @@
 // Everything else (tiles without shaft, inner rays failing a check) is traced by the SIMD
 // packet tracer, so answers always equal trace_ray's, ray for ray.
 //
-// At K = 1 and 2 (up to 8x8 samples, RttOptions::lean_max_samples) "rtt" takes rtt-paper's corner packet
-// instead of the walk, stopped at the first sign of incoherence (the tile is then traced by the
-// widest packets), with the walk's one-plane rule for the end of R (primary_tiles.cpp, measured in
-// docs/benchmarks.md).
+// At K = 1 and 2 (up to 8x8 samples, RttOptions::lean_max_samples) "rtt" takes rtt-paper's corner
+// packet instead of the walk, stopped at the first sign of incoherence (the tile is then traced by
+// the widest packets), with the walk's one-plane rule for the end of R (primary_tiles.cpp, measured
+// in docs/benchmarks.md).
 //
 // "rtt-paper" keeps the paper's procedure and rules instead: the corners go through the tree as
 // one SSE packet with the incoherence flag (corner_pass.h), the nodes they leave out are shaft

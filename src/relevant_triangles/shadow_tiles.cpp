@@ -108,17 +108,17 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
                 occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
                 return;
             }
-        status =
-            cull_shaft<Query::any_hit>(tree_, triangles_, shaft, region,
-                             walk_budget(n, is_region(tile.width, tile.height, tile.cell)),
-                             tls_mailbox, res,
-                             [](const PacketHit<4>&, ShaftRegion&) { return Narrowed::same; });
+        status = cull_shaft<Query::any_hit>(
+            tree_, triangles_, shaft, region,
+            walk_budget(n, is_region(tile.width, tile.height, tile.cell)), tls_mailbox, res,
+            [](const PacketHit<4>&, ShaftRegion&) { return Narrowed::same; });
         if (status == CornerStatus::untraced) {
             occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
             return;
         }
     } else {
-        status = trace_corners<Query::any_hit>(tree_, triangles_, shaft, &region, corners, tls_mailbox, res);
+        status = trace_corners<Query::any_hit>(tree_, triangles_, shaft, &region, corners,
+                                               tls_mailbox, res);
         if (status == CornerStatus::untraced) {
             RayPacket<4> p;
             for (int i = 0; i < 4; ++i) p.set(i, corners[i]);
@@ -128,8 +128,8 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
     for (int i = 0; i < 4; ++i)
         if (tile.active[cs[i]]) visible[cs[i]] = !((res.occluded >> i) & 1u);
     if (status == CornerStatus::traced && !extended_ && res.coherent)
-        status = collect_deferred<Query::any_hit>(tree_, triangles_, shaft, region, deferred_budget(n),
-                                        tls_mailbox, res);
+        status = collect_deferred<Query::any_hit>(tree_, triangles_, shaft, region,
+                                                  deferred_budget(n), tls_mailbox, res);
     SampleBits need(n);
     if ((status == CornerStatus::traced && (extended_ || res.coherent)) ||
         status == CornerStatus::blocked) {

@@ -14,7 +14,6 @@ bool same_bits(const Vec3f& a, const Vec3f& b) {
            std::bit_cast<uint32_t>(a.z) == std::bit_cast<uint32_t>(b.z);
 }
 
-
 }  // namespace
 
 bool make_shaft(const Ray (&c)[4], Shaft& s) {

@@ -54,7 +54,6 @@ inline int corner_sample(int width, int height, int lane) {
     return y * width + x;
 }
 
-
 /// What a shaft's rays ask: their closest hits (primary and reflected rays) or whether anything
 /// blocks them (shadow segments).
 enum class Query { closest_hit, any_hit };

@@ -2,8 +2,6 @@
 // corner rays of a tile, and the plane a shaft's rays end on.
 #pragma once
 
-#include "rtt/rtt_options.h"
-
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -11,6 +9,7 @@
 
 #include "geom/plane_id.h"
 #include "relevant_triangles/region.h"
+#include "rtt/rtt_options.h"
 #include "rtt/tracer.h"
 #include "trace/trace_packet.h"
 
