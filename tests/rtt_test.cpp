@@ -627,6 +627,38 @@ TEST(Rtt, ConcurrentTilesAgree) {
 }
 
 // Tiles that are not shafts (packed reflections) or not whole grids go through the fallback.
+// Every tile handed to RTT with something to answer is answered from a list or declined for one
+// reason (TraceStats::declined_*), and the reasons are the ones the scene calls for.
+TEST(Rtt, DeclinedTilesAddUpWithAnsweredOnes) {
+    const Scene scene = make_builtin_scene("room");
+    const KdTree tree = build_kdtree(scene);
+    for (const char* kind : {"rtt", "rtt-paper"}) {
+        const auto tracer = make_tracer(kind, scene, tree);
+        for (const int aa : {1, 2, 4}) {
+            RenderOptions o;
+            o.width = 160;
+            o.height = 120;
+            o.aa = aa;
+            o.threads = 2;
+            const RenderStats s = render(scene, *tracer, o).stats;
+            SCOPED_TRACE(std::string(kind) + ", K = " + std::to_string(aa));
+            // Camera and mirror tiles always have rays to answer.
+            for (const TraceStats* t : {&s.primary.trace, &s.secondary.trace})
+                EXPECT_EQ(t->tiles, t->rtt_tiles + t->declined());
+            // A shadow job whose samples all lack a segment is neither.
+            const TraceStats& sh = s.shadow.trace;
+            EXPECT_LE(sh.rtt_tiles + sh.declined(), sh.tiles);
+            EXPECT_GT(sh.rtt_tiles + sh.declined(), sh.tiles * 9 / 10);
+            // The room's silhouettes put receivers on several planes; at K = 1 its furniture
+            // makes some camera regions too costly or too incoherent to answer.
+            EXPECT_GT(sh.declined_end, 0u);
+            if (aa == 1) {
+                EXPECT_GT(s.primary.trace.declined(), 0u);
+            }
+        }
+    }
+}
+
 TEST(Rtt, NonShaftTilesAreTraced) {
     const Scene scene = scene_of(room({0, 0, 0}));
     const KdTree tree = build_kdtree(scene);
@@ -651,6 +683,8 @@ TEST(Rtt, NonShaftTilesAreTraced) {
     EXPECT_EQ(mismatches, 0u);
     EXPECT_EQ(answered, 0u);
     EXPECT_EQ(st.traced, rays.size());
+    EXPECT_EQ(st.declined_shaft, 1u);
+    EXPECT_EQ(st.declined(), 1u);
 }
 
 }  // namespace

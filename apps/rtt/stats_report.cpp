@@ -22,6 +22,12 @@ nlohmann::json kind_json(const KindStats& k) {
             {"relevant_sum", t.relevant_sum},
             {"open_tiles", t.open_tiles},
             {"empty_tiles", t.empty_tiles},
+            {"declined",
+             {{"no_shaft", t.declined_shaft},
+              {"no_end", t.declined_end},
+              {"budget", t.declined_budget},
+              {"list_full", t.declined_list},
+              {"corners", t.declined_corners}}},
             {"avg_relevant", t.avg_relevant()},
             {"seconds", k.seconds},
             {"mrays_per_second", k.mrays_per_second()}};
@@ -68,6 +74,17 @@ void print_stats(std::FILE* out, const RenderJobResult& r) {
                      (unsigned long long)t.rays, (unsigned long long)t.traced,
                      (unsigned long long)t.answered, t.avg_relevant(), row.stats->seconds,
                      row.stats->mrays_per_second());
+    }
+    for (const KindRow& row : rows) {
+        const TraceStats& t = row.stats->trace;
+        if (t.declined() == 0) continue;
+        std::fprintf(out,
+                     "%s tiles declined (traced): %llu; no shaft %llu, R without end %llu, node "
+                     "budget %llu, list full %llu, corners parted %llu\n",
+                     row.name, (unsigned long long)t.declined(),
+                     (unsigned long long)t.declined_shaft, (unsigned long long)t.declined_end,
+                     (unsigned long long)t.declined_budget, (unsigned long long)t.declined_list,
+                     (unsigned long long)t.declined_corners);
     }
     if (s.primary.trace.open_tiles)
         std::fprintf(out,

@@ -65,13 +65,28 @@ struct TraceStats {
     uint64_t relevant_sum = 0;  ///< Sum of relevant-list lengths over RTT tiles.
     uint64_t open_tiles = 0;    ///< RTT tiles listed by a walk without an end (a corner missed).
     uint64_t empty_tiles = 0;   ///< Of those, tiles whose list is empty: every accepted ray misses.
+    // Tiles the RTT tracers traced instead of answering from a list, by the first reason met
+    // (docs/design.md, "Why a tile is declined"); with rtt_tiles they add up to the tiles that
+    // had something to answer.
+    uint64_t declined_shaft = 0;    ///< No shaft: not a shaft tile, or corners that make none.
+    uint64_t declined_end = 0;      ///< R gets no end (hits or receivers on several planes).
+    uint64_t declined_budget = 0;   ///< The walk or the deferred nodes' culling ran out of nodes.
+    uint64_t declined_list = 0;     ///< The relevant list overflowed.
+    uint64_t declined_corners = 0;  ///< The corner packet parted, or all 4 shadow corners blocked.
 
     /// Every counter above, for code that adds or ships them all (sums, MPI ranks).
-    std::array<uint64_t*, 8> counters() {
-        return {&tiles, &rtt_tiles, &rays, &traced, &answered, &relevant_sum, &open_tiles, &empty_tiles};
+    std::array<uint64_t*, 13> counters() {
+        return {&tiles, &rtt_tiles, &rays, &traced, &answered, &relevant_sum, &open_tiles,
+                &empty_tiles, &declined_shaft, &declined_end, &declined_budget, &declined_list,
+                &declined_corners};
     }
-    std::array<uint64_t, 8> counter_values() const {
-        return {tiles, rtt_tiles, rays, traced, answered, relevant_sum, open_tiles, empty_tiles};
+    std::array<uint64_t, 13> counter_values() const {
+        return {tiles, rtt_tiles, rays, traced, answered, relevant_sum, open_tiles, empty_tiles,
+                declined_shaft, declined_end, declined_budget, declined_list, declined_corners};
+    }
+    /// Sum of the declined_* counters.
+    uint64_t declined() const {
+        return declined_shaft + declined_end + declined_budget + declined_list + declined_corners;
     }
 
     TraceStats& operator+=(const TraceStats& o);

@@ -58,9 +58,13 @@ std::shared_ptr<BoundScene> load(const std::string& source) {
 }
 
 py::dict stats_dict(const CallStats& s) {
-    return py::dict("rays"_a = s.trace.rays, "traced"_a = s.trace.traced, "answered"_a = s.trace.answered,
-                    "tiles"_a = s.trace.tiles, "rtt_tiles"_a = s.trace.rtt_tiles,
-                    "avg_list"_a = s.trace.avg_relevant(), "seconds"_a = s.seconds);
+    const TraceStats& t = s.trace;
+    const py::dict declined("no_shaft"_a = t.declined_shaft, "no_end"_a = t.declined_end,
+                            "budget"_a = t.declined_budget, "list_full"_a = t.declined_list,
+                            "corners"_a = t.declined_corners);
+    return py::dict("rays"_a = t.rays, "traced"_a = t.traced, "answered"_a = t.answered,
+                    "tiles"_a = t.tiles, "rtt_tiles"_a = t.rtt_tiles, "declined"_a = declined,
+                    "avg_list"_a = t.avg_relevant(), "seconds"_a = s.seconds);
 }
 
 /// (t, tri) arrays of the given shape from hits: t = inf and tri = -1 on a miss.

@@ -103,7 +103,13 @@ nlohmann::json kind_json(const KindResult& k) {
               {"traced", s.traced},
               {"answered", s.answered},
               {"relevant_sum", s.relevant_sum},
-              {"avg_relevant", s.avg_relevant()}}}};
+              {"avg_relevant", s.avg_relevant()},
+              {"declined",
+               {{"no_shaft", s.declined_shaft},
+                {"no_end", s.declined_end},
+                {"budget", s.declined_budget},
+                {"list_full", s.declined_list},
+                {"corners", s.declined_corners}}}}}};
 }
 
 Clocks clocks_from_json(const nlohmann::json& j) {
@@ -122,6 +128,14 @@ KindResult kind_from_json(const nlohmann::json& j) {
                                {&t.rays, "rays"}, {&t.traced, "traced"}, {&t.answered, "answered"},
                                {&t.relevant_sum, "relevant_sum"}})
         *field = s.at(name).get<uint64_t>();
+    if (s.contains("declined")) {  // files written before the counters existed lack them
+        const nlohmann::json& d = s.at("declined");
+        for (auto [field, name] :
+             {std::pair{&t.declined_shaft, "no_shaft"}, {&t.declined_end, "no_end"},
+              {&t.declined_budget, "budget"}, {&t.declined_list, "list_full"},
+              {&t.declined_corners, "corners"}})
+            *field = d.at(name).get<uint64_t>();
+    }
     return k;
 }
 

@@ -38,8 +38,8 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
     vb zero_dir[3];
     for (int a = 0; a < 3; ++a) {
         const uint32_t bits = signbits(dir[a]);
-        if (bits != 0 && bits != 0xF)
-            return CornerStatus::untraced;  // lanes order children differently
+        if (bits != 0 && bits != 0xF)  // lanes order children differently
+            return give_up(out, Decline::incoherent);
         above_first[a] = bits != 0;
         zero_dir[a] = dir[a] == vf(0.f);
     }
@@ -69,7 +69,7 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
     t1 = select(t1 < lane_max, min(t1 + (abs(t1) + tscale) * vf(kd_margin), lane_max), lane_max);
     const uint32_t entering = movemask(t0 <= t1);
     if (entering != 0xF) {
-        if constexpr (Lean) return CornerStatus::untraced;
+        if constexpr (Lean) return give_up(out, Decline::incoherent);
         out.coherent = false;
     }
 
@@ -88,6 +88,7 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
         DeferredNodes& d = out.deferred;
         if (d.count == rtt_max_deferred) {
             listing = false;
+            out.declined = Decline::budget;
             return;
         }
         d.add(node, box);
@@ -131,7 +132,7 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
             const uint32_t done = movemask(ta > best.t) & lanes;
             if (done) {
                 if (done != lanes) {
-                    if constexpr (Lean) return CornerStatus::untraced;
+                    if constexpr (Lean) return give_up(out, Decline::incoherent);
                     out.coherent = false;
                 }
                 lanes &= ~done;
@@ -154,7 +155,7 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
             const uint32_t go_first = movemask(ta <= first_hi) & lanes;
             const uint32_t go_second = movemask(second_lo <= tb) & lanes;
             if ((go_first && go_first != lanes) || (go_second && go_second != lanes)) {
-                if constexpr (Lean) return CornerStatus::untraced;
+                if constexpr (Lean) return give_up(out, Decline::incoherent);
                 out.coherent = false;
             }
             // Children boxes: the box cut at the split (each closed).
@@ -197,15 +198,19 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
             // A triangle met again in another leaf: its corner tests cannot change (the lanes'
             // tmax only shrank) and its relevance was decided.
             if (mailbox.seen(id)) continue;
-            if (!complete_shaft(shaft)) return CornerStatus::untraced;
+            if (!complete_shaft(shaft)) return give_up(out, Decline::no_shaft);
             // Every lane tests every triangle met: a superset of the leaves trace_ray visits
             // per lane, which returns the same answers (trace_ray.h).
             const CornerVerdict v = test_corners<Q>(shaft, triangles[id], lane_tmax);
             switch (take_verdict<Q>(v, id, out, best, lane_tmax, closer)) {
                 case VerdictTaken::ok: break;
                 case VerdictTaken::blocked: return CornerStatus::blocked;
-                case VerdictTaken::all_blocked: return CornerStatus::overflow;
-                case VerdictTaken::list_full: listing = false; break;
+                case VerdictTaken::all_blocked:
+                    return give_up(out, Decline::incoherent, CornerStatus::overflow);
+                case VerdictTaken::list_full:
+                    out.declined = Decline::list_full;
+                    listing = false;
+                    break;
             }
         }
     }

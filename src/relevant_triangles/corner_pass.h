@@ -82,11 +82,30 @@ enum class CornerStatus {
                ///< (any-hit) all 4 corners are blocked by different triangles.
 };
 
+/// Why a tile is traced instead of answered from a list (TraceStats' declined_* counters); the
+/// passes record theirs in CornerResult::declined when they give up.
+enum class Decline : uint8_t {
+    none,
+    no_shaft,    ///< The corners make no shaft (origins, axis orders, a refused slope quad), or
+                 ///< the tile is not a shaft tile.
+    no_end,      ///< R gets no end: the corners' hits lie on several planes or move to another
+                 ///< one during the walk, or a corner missed where an end is needed; shadows:
+                 ///< samples on several receiver planes, the light on the plane, or a corner
+                 ///< point off it.
+    budget,      ///< More nodes than the walk's or the deferred culling's budget, or more
+                 ///< deferred nodes than they hold.
+    list_full,   ///< The relevant list overflowed.
+    incoherent,  ///< The corner packet's lanes parted (lean pass; rtt-paper's flag), their
+                 ///< direction signs differ, or (shadows) all 4 corners are blocked by different
+                 ///< triangles.
+};
+
 struct CornerResult {
     Hit hit[4];             ///< Closest-hit mode: each corner's closest hit (trace_ray's answer).
     uint32_t occluded = 0;  ///< Any-hit mode: corners whose segment is blocked.
     uint32_t blocker = invalid_triangle;
     bool coherent = true;  ///< The paper's flag was never raised.
+    Decline declined = Decline::none;  ///< Why the pass gave up, if it did.
     RelevantList list;
     DeferredNodes deferred;
 
@@ -96,9 +115,17 @@ struct CornerResult {
         deferred.count = 0;
         occluded = 0;
         coherent = true;
+        declined = Decline::none;
         for (Hit& h : hit) h = Hit{};
     }
 };
+
+/// Records why a pass gave up; returns `status`.
+inline CornerStatus give_up(CornerResult& out, Decline why,
+                            CornerStatus status = CornerStatus::untraced) {
+    out.declined = why;
+    return status;
+}
 
 /// How a corner pass treats the paper's incoherence flag: as a statistic (paper: the pass goes
 /// on and shaft culling covers what the corners left out) or as the end of the pass (lean).

@@ -45,7 +45,7 @@ CornerStatus collect_deferred(const KdTree& tree, std::span<const TriangleVerts>
                 e.node = stack[top].node;
                 while (first || region.meets(e.box)) {
                     first = false;
-                    if (--budget < 0) return CornerStatus::overflow;
+                    if (--budget < 0) return give_up(out, Decline::budget, CornerStatus::overflow);
                     const KdNode& n = nodes[e.node];
                     if (!n.is_leaf()) {
                         // Children: the box cut at the split, each closed.
@@ -79,7 +79,8 @@ CornerStatus collect_deferred(const KdTree& tree, std::span<const TriangleVerts>
                             }
                         }
                         if (!v.relevant) continue;
-                        if (out.list.count == rtt_max_relevant) return CornerStatus::overflow;
+                        if (out.list.count == rtt_max_relevant)
+                            return give_up(out, Decline::list_full, CornerStatus::overflow);
                         out.list.tri[out.list.count] = id;
                         out.list.min_offset[out.list.count++] = v.min_offset;
                     }

@@ -27,6 +27,7 @@ void RttTracer::intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* 
     for (SampleAnswer& a : answers) a = SampleAnswer::traced;
     if (!shaft_tile(tile.shaft, tile.width, tile.height, tile.rays.size())) {
         trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
+        count_decline(st, Decline::no_shaft);
     } else {
         intersect_shaft(tile, hits, answers, st);
     }
@@ -95,13 +96,16 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
     // The lean pass builds the slope quad only when it first needs it (most that give up do
     // not).
     const bool lean = extended_ && takes_lean_pass(n, options_.lean_max_samples, corners);
-    if (!(lean ? make_shaft_corners(corners, shaft) : make_shaft(corners, shaft))) {
+    const auto trace_all = [&](Decline why) {
         trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
-        return;
-    }
+        count_decline(st, why);
+    };
+    if (!(lean ? make_shaft_corners(corners, shaft) : make_shaft(corners, shaft)))
+        return trace_all(Decline::no_shaft);
     CornerResult& res = tls_corners;
     PrimaryEnd end;
     bool listed = false;
+    Decline declined = Decline::none;  // why, when not listed
     bool open = false;                  // listed by a walk that completed without an end
     std::optional<ShaftRegion> region;  // primary_region(shaft, end), once it is built
     if (lean) {
@@ -113,19 +117,23 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         // may meet R is tested (corner_pass.h).
         const CornerStatus status = trace_corners<Query::closest_hit, CornerPass::lean>(
             tree_, triangles_, shaft, nullptr, corners, tls_mailbox, res);
-        if (status == CornerStatus::untraced) {
-            trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
-            return;
-        }
+        if (status == CornerStatus::untraced) return trace_all(res.declined);
         for (int i = 0; i < 4; ++i) hits[cs[i]] = res.hit[i];
         // One plane P for the 4 hits, as the walk asks (primary_end): R ends on P.
-        listed = status == CornerStatus::traced && primary_end(shaft, corners, res.hit, end) &&
-                 end.plane_id != no_plane && complete_shaft(shaft);
+        if (status != CornerStatus::traced)
+            declined = res.declined;
+        else if (!primary_end(shaft, corners, res.hit, end) || end.plane_id == no_plane)
+            declined = Decline::no_end;
+        else if (!complete_shaft(shaft))
+            declined = Decline::no_shaft;
+        else
+            listed = true;
         if (listed) {
             region.emplace(primary_region(shaft, end));
             listed = collect_deferred<Query::closest_hit>(tree_, triangles_, shaft, *region,
                                                           deferred_budget(n), tls_mailbox,
                                                           res) == CornerStatus::traced;
+            if (!listed) declined = res.declined;
         }
     } else if (extended_) {
         // One walk through the shaft (walk.h), narrowed as the corners' hits come nearer.
@@ -158,13 +166,11 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
             tree_, triangles_, shaft, walk_region,
             walk_budget(n, is_region(tile.width, tile.height, tile.cell)), tls_mailbox, res,
             narrow);
-        if (status == CornerStatus::untraced) {
-            trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
-            return;
-        }
+        if (status == CornerStatus::untraced) return trace_all(res.declined);
         for (int i = 0; i < 4; ++i) hits[cs[i]] = res.hit[i];
         if (primary_end(shaft, corners, res.hit, end)) {
             listed = slab_only || end.plane_id != no_plane;
+            if (!listed) declined = Decline::no_end;
         } else {
             // A corner missed: `narrow` never narrowed, and the completed walk listed every
             // triangle an accepted ray can hit anywhere in the cone beyond the start (within
@@ -186,11 +192,20 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         const bool one_triangle = res.hit[1].tri == res.hit[0].tri &&
                                   res.hit[2].tri == res.hit[0].tri &&
                                   res.hit[3].tri == res.hit[0].tri;
-        listed = status == CornerStatus::traced && one_triangle && res.coherent &&
-                 primary_end(shaft, corners, res.hit, end) && end.plane_id != no_plane &&
-                 collect_deferred<Query::closest_hit>(
-                     tree_, triangles_, shaft, primary_region(shaft, end), deferred_budget(n),
-                     tls_mailbox, res) == CornerStatus::traced;
+        if (status != CornerStatus::traced)
+            declined = res.declined;
+        else if (!res.coherent)
+            declined = Decline::incoherent;
+        else if (!one_triangle || !primary_end(shaft, corners, res.hit, end) ||
+                 end.plane_id == no_plane)
+            declined = Decline::no_end;
+        else if (collect_deferred<Query::closest_hit>(tree_, triangles_, shaft,
+                                                      primary_region(shaft, end),
+                                                      deferred_budget(n), tls_mailbox,
+                                                      res) != CornerStatus::traced)
+            declined = res.declined;
+        else
+            listed = true;
     }
 
     SampleBits need(n);
@@ -225,6 +240,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
             st.empty_tiles += uint64_t(list.count == 0);
         }
     } else {
+        count_decline(st, declined);
         for (int s = 0; s < n; ++s)
             if (s != cs[0] && s != cs[1] && s != cs[2] && s != cs[3]) need.set(s);
     }

@@ -92,6 +92,18 @@ inline bool takes_lean_pass(int n, int lean_max_samples, const Ray (&corners)[4]
 }
 using tolerance::unit_roundoff;
 
+/// Adds a declined tile to the counter of its reason (corner_pass.h, Decline).
+inline void count_decline(TraceStats& st, Decline why) {
+    switch (why) {
+        case Decline::none: break;
+        case Decline::incoherent: ++st.declined_corners; break;
+        case Decline::no_shaft: ++st.declined_shaft; break;
+        case Decline::no_end: ++st.declined_end; break;
+        case Decline::budget: ++st.declined_budget; break;
+        case Decline::list_full: ++st.declined_list; break;
+    }
+}
+
 /// Per-thread scratch (tracers are called concurrently): the mailbox of the current tile and
 /// the corners' result with its list and deferred nodes (too big for the stack of a tile call).
 inline thread_local TriangleMailbox tls_mailbox;

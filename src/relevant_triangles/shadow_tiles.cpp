@@ -51,6 +51,7 @@ void RttTracer::occluded(const SegmentTile& tile, std::span<uint8_t> visible, Tr
     if (active_count == 0) {
     } else if (!shaft_tile(tile.shaft, tile.width, tile.height, tile.points.size())) {
         occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
+        count_decline(st, Decline::no_shaft);
     } else {
         occluded_shaft(tile, visible, answers, st);
     }
@@ -84,13 +85,15 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
     // on the light's side of the receiver plane. A segment L + t w, t <= tmax, of a point within
     // receiver_tol of the plane (checked per point: n.w + H >= -receiver_tol) has
     // n . (x - L) = t n.w >= -tmax (H + receiver_tol).
+    const auto trace_all = [&](Decline why) {
+        occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
+        count_decline(st, why);
+    };
     FacingPlane receiver;
     if (!one_receiver_plane(tile) ||
-        !normals_.facing(planes_.id[tile.triangles[0]], tile.light, receiver) ||
-        !make_shaft(corners_of(tile, corners, cs), shaft)) {
-        occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
-        return;
-    }
+        !normals_.facing(planes_.id[tile.triangles[0]], tile.light, receiver))
+        return trace_all(Decline::no_end);
+    if (!make_shaft(corners_of(tile, corners, cs), shaft)) return trace_all(Decline::no_shaft);
     const float tmax = corners[0].tmax;
     const float receiver_tol = (1.f - tmax) * receiver.h * tolerance::receiver_gap;
     ShaftRegion region(shaft, tree_.bounds, shaft.start_lo, shaft.end_hi);
@@ -104,18 +107,13 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
         // the scene may lie off the plane by more than the tolerance). A walk that gives up
         // leaves the whole tile to packets.
         for (int i = 0; i < 4; ++i)
-            if (!near_receiver(receiver, receiver_tol, corners[i].dir)) {
-                occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
-                return;
-            }
+            if (!near_receiver(receiver, receiver_tol, corners[i].dir))
+                return trace_all(Decline::no_end);
         status = cull_shaft<Query::any_hit>(
             tree_, triangles_, shaft, region,
             walk_budget(n, is_region(tile.width, tile.height, tile.cell)), tls_mailbox, res,
             [](const PacketHit<4>&, ShaftRegion&) { return Narrowed::same; });
-        if (status == CornerStatus::untraced) {
-            occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
-            return;
-        }
+        if (status == CornerStatus::untraced) return trace_all(res.declined);
     } else {
         status = trace_corners<Query::any_hit>(tree_, triangles_, shaft, &region, corners,
                                                tls_mailbox, res);
@@ -139,6 +137,7 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
         st.rtt_tiles += 1;
         st.relevant_sum += blocked ? 1 : uint64_t(res.list.count);
     } else {
+        count_decline(st, status == CornerStatus::traced ? Decline::incoherent : res.declined);
         for (int i = 0; i < n; ++i)
             if (tile.active[i] && i != cs[0] && i != cs[1] && i != cs[2] && i != cs[3]) need.set(i);
     }

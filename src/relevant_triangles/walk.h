@@ -223,7 +223,7 @@ CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> trian
             return true;
         };
         for (;;) {
-            if (--budget < 0) return CornerStatus::untraced;
+            if (--budget < 0) return give_up(out, Decline::budget);
             const KdNode& node = nodes[index];
             if (node.is_leaf()) break;
             // The below child is the next node; the above one lies far away and is what misses
@@ -260,14 +260,16 @@ CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> trian
             switch (take_verdict<Q>(cv, id, out, best, lane_tmax, shortened)) {
                 case VerdictTaken::ok: break;
                 case VerdictTaken::blocked: return CornerStatus::blocked;
-                case VerdictTaken::all_blocked: return CornerStatus::overflow;
-                case VerdictTaken::list_full: return CornerStatus::untraced;
+                case VerdictTaken::all_blocked:
+                    return give_up(out, Decline::incoherent, CornerStatus::overflow);
+                case VerdictTaken::list_full: return give_up(out, Decline::list_full);
             }
         }
         if constexpr (!AnyHit) {
             if (shortened) {
                 const Narrowed r = narrow(best, region);
-                if (r == Narrowed::abandon) return CornerStatus::untraced;
+                if (r == Narrowed::abandon)
+                    return give_up(out, Decline::no_end);
                 if (r == Narrowed::smaller) {
                     load_planes();
                     ++generation;
