@@ -14,6 +14,8 @@ struct KindRow {
 
 nlohmann::json kind_json(const KindStats& k) {
     const TraceStats& t = k.trace;
+    nlohmann::json declined = nlohmann::json::object();
+    for (const auto& [name, field] : declined_fields) declined[name] = t.*field;
     return {{"tiles", t.tiles},
             {"rtt_tiles", t.rtt_tiles},
             {"rays", t.rays},
@@ -22,12 +24,7 @@ nlohmann::json kind_json(const KindStats& k) {
             {"relevant_sum", t.relevant_sum},
             {"open_tiles", t.open_tiles},
             {"empty_tiles", t.empty_tiles},
-            {"declined",
-             {{"no_shaft", t.declined_shaft},
-              {"no_end", t.declined_end},
-              {"budget", t.declined_budget},
-              {"list_full", t.declined_list},
-              {"corners", t.declined_corners}}},
+            {"declined", declined},
             {"avg_relevant", t.avg_relevant()},
             {"seconds", k.seconds},
             {"mrays_per_second", k.mrays_per_second()}};

@@ -9,6 +9,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "rtt/kdtree.h"
@@ -89,9 +90,20 @@ struct TraceStats {
         return declined_shaft + declined_end + declined_budget + declined_list + declined_corners;
     }
 
+
     TraceStats& operator+=(const TraceStats& o);
     double avg_relevant() const { return rtt_tiles ? double(relevant_sum) / double(rtt_tiles) : 0.0; }
 };
+
+/// TraceStats' declined_* counters with their names in JSON (--stats-json, rtt bench) and
+/// Python (last_stats["declined"]).
+inline constexpr std::array<std::pair<const char*, uint64_t TraceStats::*>, 5> declined_fields{{
+    {"no_shaft", &TraceStats::declined_shaft},
+    {"no_end", &TraceStats::declined_end},
+    {"budget", &TraceStats::declined_budget},
+    {"list_full", &TraceStats::declined_list},
+    {"corners_parted", &TraceStats::declined_corners},
+}};
 
 /// How a sample was answered, for the paper's Figure 5 maps.
 enum class SampleAnswer : uint8_t {

@@ -59,9 +59,8 @@ std::shared_ptr<BoundScene> load(const std::string& source) {
 
 py::dict stats_dict(const CallStats& s) {
     const TraceStats& t = s.trace;
-    const py::dict declined("no_shaft"_a = t.declined_shaft, "no_end"_a = t.declined_end,
-                            "budget"_a = t.declined_budget, "list_full"_a = t.declined_list,
-                            "corners"_a = t.declined_corners);
+    py::dict declined;
+    for (const auto& [name, field] : declined_fields) declined[name] = t.*field;
     return py::dict("rays"_a = t.rays, "traced"_a = t.traced, "answered"_a = t.answered,
                     "tiles"_a = t.tiles, "rtt_tiles"_a = t.rtt_tiles, "declined"_a = declined,
                     "avg_list"_a = t.avg_relevant(), "seconds"_a = s.seconds);

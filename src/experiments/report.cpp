@@ -90,6 +90,8 @@ nlohmann::json kind_json(const KindResult& k) {
     nlohmann::json reps = nlohmann::json::array();
     for (const Clocks& c : k.reps) reps.push_back(clocks_json(c));
     const TraceStats& s = k.stats;
+    nlohmann::json declined = nlohmann::json::object();
+    for (const auto& [name, field] : declined_fields) declined[name] = s.*field;
     return {{"rays", k.rays},
             {"time", clocks_json(k.time)},
             {"mrays_per_s_cpu", k.mrays_per_second(ClockKind::cpu)},
@@ -104,12 +106,7 @@ nlohmann::json kind_json(const KindResult& k) {
               {"answered", s.answered},
               {"relevant_sum", s.relevant_sum},
               {"avg_relevant", s.avg_relevant()},
-              {"declined",
-               {{"no_shaft", s.declined_shaft},
-                {"no_end", s.declined_end},
-                {"budget", s.declined_budget},
-                {"list_full", s.declined_list},
-                {"corners", s.declined_corners}}}}}};
+              {"declined", declined}}}};
 }
 
 Clocks clocks_from_json(const nlohmann::json& j) {
@@ -130,11 +127,7 @@ KindResult kind_from_json(const nlohmann::json& j) {
         *field = s.at(name).get<uint64_t>();
     if (s.contains("declined")) {  // files written before the counters existed lack them
         const nlohmann::json& d = s.at("declined");
-        for (auto [field, name] :
-             {std::pair{&t.declined_shaft, "no_shaft"}, {&t.declined_end, "no_end"},
-              {&t.declined_budget, "budget"}, {&t.declined_list, "list_full"},
-              {&t.declined_corners, "corners"}})
-            *field = d.at(name).get<uint64_t>();
+        for (const auto& [name, field] : declined_fields) t.*field = d.at(name).get<uint64_t>();
     }
     return k;
 }

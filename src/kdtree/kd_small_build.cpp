@@ -142,8 +142,8 @@ SplitChoice find_small_split(std::span<const TriBox> items, const Bbox3f& box,
                                  p,
                                  planar_left,
                                  cost,
-                                 below[c] + (planar_left ? planar[c] : 0),
-                                 above[c] + (planar_left ? 0 : planar[c])};
+                                 b + (planar_left ? fl : 0),
+                                 ab + (planar_left ? 0 : fl)};
             }
         best = better(best, axis_best);
     }

@@ -39,7 +39,7 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
     for (int a = 0; a < 3; ++a) {
         const uint32_t bits = signbits(dir[a]);
         if (bits != 0 && bits != 0xF)  // lanes order children differently
-            return give_up(out, Decline::incoherent);
+            return give_up(out, Decline::corners_parted);
         above_first[a] = bits != 0;
         zero_dir[a] = dir[a] == vf(0.f);
     }
@@ -69,7 +69,7 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
     t1 = select(t1 < lane_max, min(t1 + (abs(t1) + tscale) * vf(kd_margin), lane_max), lane_max);
     const uint32_t entering = movemask(t0 <= t1);
     if (entering != 0xF) {
-        if constexpr (Lean) return give_up(out, Decline::incoherent);
+        if constexpr (Lean) return give_up(out, Decline::corners_parted);
         out.coherent = false;
     }
 
@@ -132,7 +132,7 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
             const uint32_t done = movemask(ta > best.t) & lanes;
             if (done) {
                 if (done != lanes) {
-                    if constexpr (Lean) return give_up(out, Decline::incoherent);
+                    if constexpr (Lean) return give_up(out, Decline::corners_parted);
                     out.coherent = false;
                 }
                 lanes &= ~done;
@@ -155,7 +155,7 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
             const uint32_t go_first = movemask(ta <= first_hi) & lanes;
             const uint32_t go_second = movemask(second_lo <= tb) & lanes;
             if ((go_first && go_first != lanes) || (go_second && go_second != lanes)) {
-                if constexpr (Lean) return give_up(out, Decline::incoherent);
+                if constexpr (Lean) return give_up(out, Decline::corners_parted);
                 out.coherent = false;
             }
             // Children boxes: the box cut at the split (each closed).
@@ -206,7 +206,7 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
                 case VerdictTaken::ok: break;
                 case VerdictTaken::blocked: return CornerStatus::blocked;
                 case VerdictTaken::all_blocked:
-                    return give_up(out, Decline::incoherent, CornerStatus::overflow);
+                    return give_up(out, Decline::corners_parted, CornerStatus::overflow);
                 case VerdictTaken::list_full:
                     out.declined = Decline::list_full;
                     listing = false;

@@ -86,25 +86,25 @@ enum class CornerStatus {
 /// passes record theirs in CornerResult::declined when they give up.
 enum class Decline : uint8_t {
     none,
-    no_shaft,    ///< The corners make no shaft (origins, axis orders, a refused slope quad), or
-                 ///< the tile is not a shaft tile.
-    no_end,      ///< R gets no end: the corners' hits lie on several planes or move to another
-                 ///< one during the walk, or a corner missed where an end is needed; shadows:
-                 ///< samples on several receiver planes, the light on the plane, or a corner
-                 ///< point off it.
-    budget,      ///< More nodes than the walk's or the deferred culling's budget, or more
-                 ///< deferred nodes than they hold.
-    list_full,   ///< The relevant list overflowed.
-    incoherent,  ///< The corner packet's lanes parted (lean pass; rtt-paper's flag), their
-                 ///< direction signs differ, or (shadows) all 4 corners are blocked by different
-                 ///< triangles.
+    no_shaft,        ///< The corners make no shaft (origins, axis orders, a refused slope quad), or
+                     ///< the tile is not a shaft tile.
+    no_end,          ///< R gets no end: the corners' hits lie on several planes or move to another
+                     ///< one during the walk, or a corner missed where an end is needed; shadows:
+                     ///< samples on several receiver planes, the light on the plane, or a corner
+                     ///< point off it.
+    budget,          ///< More nodes than the walk's or the deferred culling's budget, or more
+                     ///< deferred nodes than they hold.
+    list_full,       ///< The relevant list overflowed.
+    corners_parted,  ///< The corner packet's lanes parted (lean pass; rtt-paper's flag), their
+                     ///< direction signs differ, or (shadows) all 4 corners are blocked by
+                     ///< different triangles.
 };
 
 struct CornerResult {
     Hit hit[4];             ///< Closest-hit mode: each corner's closest hit (trace_ray's answer).
     uint32_t occluded = 0;  ///< Any-hit mode: corners whose segment is blocked.
     uint32_t blocker = invalid_triangle;
-    bool coherent = true;  ///< The paper's flag was never raised.
+    bool coherent = true;              ///< The paper's flag was never raised.
     Decline declined = Decline::none;  ///< Why the pass gave up, if it did.
     RelevantList list;
     DeferredNodes deferred;

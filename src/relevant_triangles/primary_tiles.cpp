@@ -195,7 +195,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         if (status != CornerStatus::traced)
             declined = res.declined;
         else if (!res.coherent)
-            declined = Decline::incoherent;
+            declined = Decline::corners_parted;
         else if (!one_triangle || !primary_end(shaft, corners, res.hit, end) ||
                  end.plane_id == no_plane)
             declined = Decline::no_end;

@@ -137,7 +137,7 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
         st.rtt_tiles += 1;
         st.relevant_sum += blocked ? 1 : uint64_t(res.list.count);
     } else {
-        count_decline(st, status == CornerStatus::traced ? Decline::incoherent : res.declined);
+        count_decline(st, status == CornerStatus::traced ? Decline::corners_parted : res.declined);
         for (int i = 0; i < n; ++i)
             if (tile.active[i] && i != cs[0] && i != cs[1] && i != cs[2] && i != cs[3]) need.set(i);
     }

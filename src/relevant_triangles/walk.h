@@ -261,7 +261,7 @@ CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> trian
                 case VerdictTaken::ok: break;
                 case VerdictTaken::blocked: return CornerStatus::blocked;
                 case VerdictTaken::all_blocked:
-                    return give_up(out, Decline::incoherent, CornerStatus::overflow);
+                    return give_up(out, Decline::corners_parted, CornerStatus::overflow);
                 case VerdictTaken::list_full: return give_up(out, Decline::list_full);
             }
         }
