@@ -33,34 +33,13 @@
 #include "simd/simd.h"
 #include "trace/trace_packet.h"
 
+#include "kd_bench_meshes.h"
+
 namespace rtt {
 namespace {
 
 constexpr int width = 1024, height = 768, tile = 4, tile_rays = tile * tile;
 int sphere_rings = 250, sphere_segments = 256;  // --sphere
-
-/// A UV sphere of radius 1 +- 0.08 with bumps, rings x segments quads (2 triangles each).
-void add_bumpy_sphere(Scene& s, uint32_t mat, int rings, int segments) {
-    std::vector<Vec3f> v;
-    std::vector<TriangleIndices> t;
-    for (int r = 0; r <= rings; ++r)
-        for (int k = 0; k < segments; ++k) {
-            const float th = 3.14159265f * float(r) / float(rings);
-            const float ph = 6.28318531f * float(k) / float(segments);
-            const float rad = 1.f + 0.05f * std::sin(23.f * th) * std::cos(17.f * ph) +
-                              0.03f * std::sin(61.f * ph + 3.f * th);
-            v.push_back(
-                Vec3f{std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph)} *
-                rad);
-        }
-    const auto at = [&](int r, int k) { return uint32_t(r * segments + k % segments); };
-    for (int r = 0; r < rings; ++r)
-        for (int k = 0; k < segments; ++k) {
-            t.push_back({at(r, k), at(r + 1, k), at(r + 1, k + 1)});
-            t.push_back({at(r, k), at(r + 1, k + 1), at(r, k + 1)});
-        }
-    s.add_mesh(v, t, mat);
-}
 
 /// An n x n terrain of gentle hills around y = -1.1, 10 units across.
 void add_terrain(Scene& s, uint32_t mat, int n) {
@@ -99,9 +78,9 @@ const Workload& workload() {
     static const Workload w = [] {
         Workload w;
         const uint32_t mat = w.scene.add_material({});
-        add_bumpy_sphere(w.scene, mat, sphere_rings,
-                         sphere_segments);  // 128,000 triangles by default
-        add_terrain(w.scene, mat, 64);      //   8,192 triangles
+        kdbench::add_bumpy_sphere(w.scene, mat, sphere_rings,
+                                  sphere_segments);  // 128,000 triangles by default
+        add_terrain(w.scene, mat, 64);  //   8,192 triangles
         w.tree = build_kdtree(w.scene);
         const Camera cam{{2.4f, 1.0f, 2.8f}, {0.f, -0.25f, 0.f}, {0.f, 1.f, 0.f}, 50.f};
         const CameraRays camera(cam, width, height, 1);

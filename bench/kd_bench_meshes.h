@@ -1,5 +1,5 @@
-// Generated meshes for the kd-tree build and single-ray benchmarks (bench_kdbuild, bench_ray):
-// deterministic, any size, no files needed.
+// Generated meshes for the kd-tree build, single-ray and packet benchmarks (bench_kdbuild,
+// bench_ray, bench_packet): deterministic, any size, no files needed.
 #pragma once
 
 #include <cmath>
@@ -11,9 +11,9 @@
 
 namespace rtt::kdbench {
 
-/// A UV sphere of radius 1 +- 0.08 with bumps: rings x segments quads, 2 triangles each (the
-/// pole rows are zero-area triangles, kept like any mesh would have them).
-inline Scene bumpy_sphere(int rings, int segments) {
+/// Adds a UV sphere of radius 1 +- 0.08 with bumps to `s`: rings x segments quads, 2 triangles
+/// each (the pole rows are zero-area triangles, kept like any mesh would have them).
+inline void add_bumpy_sphere(Scene& s, uint32_t material, int rings, int segments) {
     std::vector<Vec3f> v;
     std::vector<TriangleIndices> t;
     for (int r = 0; r <= rings; ++r)
@@ -30,9 +30,14 @@ inline Scene bumpy_sphere(int rings, int segments) {
             t.push_back({at(r, k), at(r + 1, k), at(r + 1, k + 1)});
             t.push_back({at(r, k), at(r + 1, k + 1), at(r, k + 1)});
         }
+    s.add_mesh(v, t, material);
+}
+
+/// The bumpy sphere alone.
+inline Scene bumpy_sphere(int rings, int segments) {
     Scene s;
     s.name = "bumpy sphere";
-    s.add_mesh(v, t, s.add_material({}));
+    add_bumpy_sphere(s, s.add_material({}), rings, segments);
     return s;
 }
 
