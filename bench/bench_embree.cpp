@@ -14,6 +14,7 @@
 
 #include <oneapi/tbb/global_control.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
@@ -131,15 +132,32 @@ int main(int argc, char** argv) {
     int threads = 1;
     std::vector<char*> args;
     for (int i = 0; i < argc; ++i) {
-        if (std::strncmp(argv[i], "--threads=", 10) == 0)
-            threads = std::atoi(argv[i] + 10);
-        else
+        if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
+            std::printf(
+                "bench_embree: Embree beside rtt's tracers on a ~129k-triangle sphere on a ground\n"
+                "grid, 1024x768, 4x4-pixel tiles, primary rays and shadow segments on one thread,\n"
+                "and the build times of Embree's BVH and of the kd-tree.\n"
+                "  --threads=N  threads of the two builds (default 1)\n"
+                "Google Benchmark flags (--benchmark_filter=..., --benchmark_repetitions=N) apply.\n");
+            return 0;
+        }
+        if (std::strncmp(argv[i], "--threads=", 10) == 0) {
+            char* end = nullptr;
+            const long v = std::strtol(argv[i] + 10, &end, 10);
+            if (end == argv[i] + 10 || *end != '\0' || v < 1 || v > 4096) {
+                std::fprintf(stderr, "bench_embree: error: --threads wants 1..4096, got '%s'\n",
+                             argv[i] + 10);
+                return 1;
+            }
+            threads = int(v);
+        } else {
             args.push_back(argv[i]);
+        }
     }
-    if (threads < 1) threads = 1;
     const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
     int n = int(args.size());
     benchmark::Initialize(&n, args.data());
+    if (benchmark::ReportUnrecognizedArguments(n, args.data())) return 1;
     for (const std::string& kind : rtt::tracer_kinds()) {
         if (kind == "brute") continue;  // the oracle would take minutes per frame
         benchmark::RegisterBenchmark(("Primary/" + kind).c_str(), rtt::primary, kind)->Unit(benchmark::kMillisecond);

@@ -17,6 +17,7 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -170,25 +171,57 @@ void split(benchmark::State& state, const std::string& kind, bool shadows, bool 
 }  // namespace
 }  // namespace rtt::bench
 
+namespace {
+
+/// The integer of `text` (all of it), or false.
+bool parse_int(const char* text, int& out) {
+    char* end = nullptr;
+    const long v = std::strtol(text, &end, 10);
+    if (end == text || *end != '\0' || v < INT32_MIN || v > INT32_MAX) return false;
+    out = int(v);
+    return true;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
     std::string scene = "room";
     int width = 640, height = 480, aa = 1, region = 0;
     std::vector<char*> args;
     for (int i = 0; i < argc; ++i) {
-        if (std::strncmp(argv[i], "--scene=", 8) == 0)
-            scene = argv[i] + 8;
-        else if (std::strncmp(argv[i], "--size=", 7) == 0 &&
-                 std::sscanf(argv[i] + 7, "%dx%d", &width, &height) == 2)
-            continue;
-        else if (std::strncmp(argv[i], "--aa=", 5) == 0)
-            aa = std::atoi(argv[i] + 5);
-        else if (std::strncmp(argv[i], "--region=", 9) == 0)
-            region = std::atoi(argv[i] + 9);
-        else
+        const char* a = argv[i];
+        bool ok = true;
+        if (std::strcmp(a, "--help") == 0 || std::strcmp(a, "-h") == 0) {
+            std::printf(
+                "bench_trace: every tracer of this build on the same primary and shadow tiles of\n"
+                "one scene (rtt bench's rays), one tracing thread; Split/... times the tiles rtt\n"
+                "answers and those it declines apart.\n"
+                "  --scene=NAME|FILE  built-in scene or scene file (default room)\n"
+                "  --size=WxH         image size (default 640x480)\n"
+                "  --aa=K             K x K samples per pixel (default 1)\n"
+                "  --region=R         pixels per region side, as rtt render --region (0 = default)\n"
+                "Google Benchmark flags (--benchmark_filter=..., --benchmark_repetitions=N) apply.\n");
+            return 0;
+        } else if (std::strncmp(a, "--scene=", 8) == 0) {
+            scene = a + 8;
+        } else if (std::strncmp(a, "--size=", 7) == 0) {
+            char tail = 0;
+            ok = std::sscanf(a + 7, "%dx%d%c", &width, &height, &tail) == 2;
+        } else if (std::strncmp(a, "--aa=", 5) == 0) {
+            ok = parse_int(a + 5, aa);
+        } else if (std::strncmp(a, "--region=", 9) == 0) {
+            ok = parse_int(a + 9, region);
+        } else {
             args.push_back(argv[i]);
+        }
+        if (!ok) {
+            std::fprintf(stderr, "bench_trace: error: bad value in '%s' (see --help)\n", a);
+            return 1;
+        }
     }
     int n = int(args.size());
     benchmark::Initialize(&n, args.data());
+    if (benchmark::ReportUnrecognizedArguments(n, args.data())) return 1;
     try {
         static const rtt::bench::Frame f = rtt::bench::make_frame(scene, width, height, aa, region);
         rtt::bench::frame = &f;
