@@ -256,7 +256,7 @@ private:
 int main(int argc, char** argv) {
     std::vector<char*> args;
     for (int i = 0; i < argc; ++i) {
-        if (std::strcmp(argv[i], "--help") == 0)
+        if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
             std::printf(
                 "bench_packet: ray vs packet vs packet8 vs packet16 (those this build has), "
                 "primary rays\n"
@@ -266,7 +266,9 @@ int main(int argc, char** argv) {
                 "Prints Google Benchmark's table (Mrays = million rays per CPU second, mismatches "
                 "against\n"
                 "the reference tracer, must be 0), then median CPU times and speed-ups over "
-                "'ray'.\n\n");
+                "'ray'.\n");
+            return 0;
+        }
         if (std::strncmp(argv[i], "--sphere=", 9) == 0) {
             if (std::sscanf(argv[i] + 9, "%dx%d", &rtt::sphere_rings, &rtt::sphere_segments) != 2 ||
                 rtt::sphere_rings < 2 || rtt::sphere_segments < 3) {
@@ -282,6 +284,7 @@ int main(int argc, char** argv) {
     // One thread: the tracers run on the calling thread; this also keeps the build serial.
     const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
     benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
     for (const char* what : {"Primary/", "Shadow/"})
         for (const std::string& kind : rtt::tracer_kinds()) {
             if (kind != "ray" && !kind.starts_with("packet")) continue;
