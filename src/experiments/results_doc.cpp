@@ -58,8 +58,10 @@ std::string results_markdown(const ResultsDocument& doc, const std::string& mark
          format_fixed(doc.seconds / 60.0, 1) + " minutes |\n\n";
 
     s += "## How it was measured\n\n"
-         "Every tracer answers exactly the same rays: the renderer's 4x4-pixel tiles (4K x 4K "
-         "samples, shaft = true) and, per tile and light, the shadow segments from the hit points "
+         "Every tracer answers exactly the same rays: the renderer's batches, regions of R x R "
+         "pixels (RK x RK samples, shaft = true; R = 16 at K = 1, 8 at K = 2 and 4 from K = 3 on "
+         "unless `--region` says otherwise) and, per region and light, the shadow segments from "
+         "the hit points "
          "of the 4-wide packet tracer (active where the light can light the point, as in the "
          "renderer). Before timing, each tracer's answers are compared with the packet tracer's "
          "(closest hit for primary rays, visibility for segments). Timed repetitions interleave "
