@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Drives `rtt view` in a real window with synthetic input (run under xvfb-run by
+# Drives `rtt view` in a real window with synthetic input (run under tests/headless.sh by
 # tests/view_test.cpp): prints the camera (C), orbits with a left drag, dollies with the wheel,
 # flies with W held, prints it again, switches tracer (T) and quits with Escape.
 # Usage: view_input.sh RTT OUTPUT_FILE [rtt view options]; exits with rtt's code.

@@ -139,10 +139,9 @@ TEST(ViewFrames, MovingFramesUseOneSampleAndShadowsOffTracesNoSegments) {
 bool have_xvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 0; }
 // Mesa's GL driver is loaded and unloaded by GLFW and leaves a few allocations LeakSanitizer
 // cannot name (frames in an unloaded module): the sanitizer build checks leaks everywhere else.
-// One headless X server at a time: two xvfb-run started together (ctest -j2) sometimes leave
-// one client unable to open its display, so the window tests take a lock (flock, util-linux).
-const std::string xvfb = "env ASAN_OPTIONS=detect_leaks=0 flock /tmp/rtt-view-tests.lock "
-                         "xvfb-run -a -s '-screen 0 640x480x24' ";
+// One headless X server at a time, each gone before the next starts (tests/headless.sh).
+const std::string xvfb = "env ASAN_OPTIONS=detect_leaks=0 bash '" +
+                         std::string(RTT_TEST_DATA_DIR) + "/../headless.sh' ";
 
 TEST(ViewWindow, ScreenshotEqualsRenderOfTheSameCamera) {
     if (!have_xvfb()) GTEST_SKIP() << "xvfb-run not installed";
