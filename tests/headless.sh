@@ -17,8 +17,12 @@ xvfb_count() {
 exec 9>/tmp/rtt-view-tests.lock
 flock 9
 before=$(xvfb_count)
-xvfb-run -a -s '-screen 0 640x480x24' "$@"
+errors=$(mktemp)
+xvfb-run -a -e "$errors" -s '-screen 0 640x480x24' "$@"
 rc=$?
+# When the command failed, what the X server said (a failed start, a display in use).
+[ "$rc" -eq 0 ] || { echo "headless.sh: Xvfb's messages:"; cat "$errors"; } >&2
+rm -f "$errors"
 for _ in $(seq 100); do  # up to 5 s
   [ "$(xvfb_count)" -le "$before" ] && break
   sleep 0.05
