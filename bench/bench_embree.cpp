@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_args.h"
 #include "rtt/camera.h"
 #include "rtt/kdtree.h"
 #include "rtt/tracer.h"
@@ -142,14 +143,11 @@ int main(int argc, char** argv) {
             return 0;
         }
         if (std::strncmp(argv[i], "--threads=", 10) == 0) {
-            char* end = nullptr;
-            const long v = std::strtol(argv[i] + 10, &end, 10);
-            if (end == argv[i] + 10 || *end != '\0' || v < 1 || v > 4096) {
+            if (!rtt::bench::parse_int(argv[i] + 10, threads) || threads < 1 || threads > 4096) {
                 std::fprintf(stderr, "bench_embree: error: --threads wants 1..4096, got '%s'\n",
                              argv[i] + 10);
                 return 1;
             }
-            threads = int(v);
         } else {
             args.push_back(argv[i]);
         }

@@ -17,13 +17,14 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
-#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
 
+#include "bench_args.h"
+#include "cli_values.h"
 #include "experiments/workload.h"
 
 namespace rtt::bench {
@@ -171,19 +172,6 @@ void split(benchmark::State& state, const std::string& kind, bool shadows, bool 
 }  // namespace
 }  // namespace rtt::bench
 
-namespace {
-
-/// The integer of `text` (all of it), or false.
-bool parse_int(const char* text, int& out) {
-    char* end = nullptr;
-    const long v = std::strtol(text, &end, 10);
-    if (end == text || *end != '\0' || v < INT32_MIN || v > INT32_MAX) return false;
-    out = int(v);
-    return true;
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
     std::string scene = "room";
     int width = 640, height = 480, aa = 1, region = 0;
@@ -205,12 +193,15 @@ int main(int argc, char** argv) {
         } else if (std::strncmp(a, "--scene=", 8) == 0) {
             scene = a + 8;
         } else if (std::strncmp(a, "--size=", 7) == 0) {
-            char tail = 0;
-            ok = std::sscanf(a + 7, "%dx%d%c", &width, &height, &tail) == 2;
+            try {
+                rtt::parse_size(a + 7, width, height);
+            } catch (const std::exception&) {
+                ok = false;
+            }
         } else if (std::strncmp(a, "--aa=", 5) == 0) {
-            ok = parse_int(a + 5, aa);
+            ok = rtt::bench::parse_int(a + 5, aa);
         } else if (std::strncmp(a, "--region=", 9) == 0) {
-            ok = parse_int(a + 9, region);
+            ok = rtt::bench::parse_int(a + 9, region);
         } else {
             args.push_back(argv[i]);
         }
