@@ -8,6 +8,37 @@
 
 namespace rtt {
 
+/// A pinhole camera's frame for one image size and antialiasing factor: everything a sample's
+/// direction is made of (CONVENTIONS), so that a tracer can remake a camera tile's directions
+/// in registers (src/geom/camera_simd.h) bit for bit instead of loading them.
+struct CameraFrame {
+    Vec3f position, forward, right, up2;
+    float h = 0.f, aspect = 1.f;
+    int width = 0, height = 0, aa = 1;
+
+    /// (2u - 1) h aspect of sample column i of pixel column x, as CONVENTIONS writes it.
+    float a(int x, int i) const {
+        const float k = float(aa);
+        const float u = (float(x) + (float(i) + 0.5f) / k) / float(width);
+        return (2.f * u - 1.f) * h * aspect;
+    }
+    /// (2v - 1) h of sample row j of pixel row y.
+    float b(int y, int j) const {
+        const float k = float(aa);
+        const float v = (float(y) + (float(j) + 0.5f) / k) / float(height);
+        return (2.f * v - 1.f) * h;
+    }
+    /// normalize(forward + a right - b up2).
+    Vec3f direction(float a, float b) const { return normalize(forward + a * right - b * up2); }
+};
+
+/// A tile of camera rays as its camera made them: the frame and the pixel of the tile's first
+/// sample (its sample column sc is sample sc % K of pixel x0 + sc / K; rows likewise).
+struct CameraTile {
+    const CameraFrame* frame = nullptr;
+    int x0 = 0, y0 = 0;
+};
+
 /// The orthonormal frame of a pinhole camera for one image size and antialiasing factor.
 class CameraRays {
 public:
@@ -19,8 +50,13 @@ public:
     ///   u = (x + (i + 0.5) / K) / W,  v = (y + (j + 0.5) / K) / H
     ///   dir = normalize(forward + (2u - 1) * h * aspect * right - (2v - 1) * h * up2)
     /// Pixels outside the image (padding) follow the same formula.
-    Vec3f direction(int x, int y, int i, int j) const;
-    Vec3f origin() const { return pos_; }
+    Vec3f direction(int x, int y, int i, int j) const {
+        return frame_.direction(frame_.a(x, i), frame_.b(y, j));
+    }
+    Vec3f origin() const { return frame_.position; }
+    const CameraFrame& frame() const { return frame_; }
+    /// The camera part of tile (tx, ty)'s rays, or of a region starting there (RayTile::camera).
+    CameraTile tile(int tx, int ty) const { return {&frame_, 4 * tx, 4 * ty}; }
 
     /// The (4K)^2 primary rays of 4x4-pixel tile (tx, ty) into `out`, in tile sample order:
     /// out[sr * 4K + sc] is sample (sc % K, sr % K) of pixel (4 tx + sc / K, 4 ty + sr / K),
@@ -32,14 +68,12 @@ public:
     /// (4 tx + sc / K, 4 ty + sr / K).
     void region_rays(int tx, int ty, int cols, int rows, std::span<Ray> out) const;
 
-    int width() const { return width_; }
-    int height() const { return height_; }
-    int aa() const { return aa_; }
+    int width() const { return frame_.width; }
+    int height() const { return frame_.height; }
+    int aa() const { return frame_.aa; }
 
 private:
-    Vec3f pos_, forward_, right_, up2_;
-    float h_ = 0.f, aspect_ = 1.f;
-    int width_ = 0, height_ = 0, aa_ = 1;
+    CameraFrame frame_;
 };
 
 /// A camera looking at `box` from a diagonal, far enough to see all of it.
