@@ -366,8 +366,9 @@ TEST(Render, RegionSizeDoesNotChangeAnything) {
     EXPECT_THROW(render(f.scene, *f.tracer, o), Error);
     EXPECT_EQ(default_region(1), 16);
     EXPECT_EQ(default_region(2), 8);
-    EXPECT_EQ(default_region(3), 4);
-    EXPECT_EQ(default_region(6), 4);
+    EXPECT_EQ(default_region(3), 8);
+    EXPECT_EQ(default_region(6), 8);
+    EXPECT_EQ(default_region(9), 4);
 }
 
 TEST(Render, ImageDoesNotDependOnRequestedBuffers) {

@@ -65,9 +65,8 @@ inline constexpr int max_reflection_depth = 64;
 inline constexpr int max_render_threads = 1024;
 /// Largest region side (pixels) accepted by RenderOptions::region.
 inline constexpr int max_region = 256;
-/// The default region side for K x K antialiasing: about 256 samples per region (16 pixels at
-/// K = 1, 8 at K = 2, the 4x4-pixel tile from K = 3 on; docs/benchmarks.md, "RTT against
-/// Embree").
+/// The default region side for K x K antialiasing: 16 pixels at K = 1, 8 pixels from K = 2 to 8
+/// (16 to 64 samples a side), the 4x4-pixel tile above (docs/benchmarks.md, "Regions").
 int default_region(int aa);
 
 struct RenderOptions {

@@ -61,9 +61,7 @@ void RenderOptions::validate(size_t light_count) const {
 }
 
 int default_region(int aa) {
-    int region = 4;
-    while (region * 2 * aa <= 16) region *= 2;
-    return region;
+    return aa == 1 ? 16 : aa <= 8 ? 8 : 4;
 }
 
 int RenderOptions::region_pixels() const { return region > 0 ? region : default_region(aa); }
