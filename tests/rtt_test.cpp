@@ -563,6 +563,32 @@ TEST(Rtt, RegionsOnCornerRaysAndSoupsMatchBruteForce) {
 
 // Objects against the background: regions whose corners miss are answered from a walk without
 // an end (misses included), on silhouettes, all-miss regions and needles between the corners.
+// Shadows on curved receivers: a finely tessellated sphere on a floor, a small blocker between
+// it and the light, a light inside the scene's bounds and one outside, near the origin and far
+// from it. Receivers on many planes, regions at every K: every segment must equal the
+// reference's.
+TEST(Rtt, ShadowsOnCurvedReceiversMatchReference) {
+    for (const Vec3f offset : {Vec3f{0, 0, 0}, Vec3f{3e3f, -2e3f, 1e3f}}) {
+        Tris t;
+        add_sphere(t, Vec3f{0, 0, 0} + offset, 1.f, 120, 60);
+        add_grid(t, Vec3f{-3, -1, -3} + offset, {6, 0, 0}, {0, 0, 6}, 4, 4);
+        add_box(t, Vec3f{0.5f, 1.6f, 0.2f} + offset, Vec3f{0.8f, 1.7f, 0.5f} + offset, 1);
+        const Scene scene = scene_of(t);
+        const KdTree tree = build_kdtree(scene);
+        Differ d(scene, tree, "ray");
+        const Camera camera{Vec3f{0.4f, 1.2f, 3.2f} + offset, offset, {0, 1, 0}, 40};
+        Tally tally;
+        for (const Vec3f light : {Vec3f{1.5f, 3.f, 1.f}, Vec3f{-8.f, 12.f, 9.f}}) {
+            d.run(camera, 64, 48, 1, {light + offset}, tally, 16);
+            d.run(camera, 32, 24, 2, {light + offset}, tally, 8);
+            d.run(camera, 24, 20, 4, {light + offset}, tally, 4);
+        }
+        tally.print(offset.x == 0.f ? "curved receivers" : "curved receivers, far");
+        EXPECT_EQ(tally.mismatches, 0u);
+        EXPECT_EQ(tally.segment_mismatches, 0u);
+    }
+}
+
 TEST(Rtt, ObjectsAgainstBackgroundMatchBruteForce) {
     const Camera camera{{0.3f, 0.4f, 6}, {0, 0, 0}, {0, 1, 0}, 45};
     Tris t;
