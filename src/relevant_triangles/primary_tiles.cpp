@@ -89,133 +89,40 @@ ShaftRegion RttTracer::primary_region(const Shaft& shaft, const PrimaryEnd& e) c
 void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
                                 std::span<SampleAnswer> answers, TraceStats& st) const {
     const int n = int(tile.rays.size());
-    Ray corners[4];
-    int cs[4];
-    Shaft shaft;
-    corners_of(tile, corners, cs);
+    PrimaryShaft p;
+    corners_of(tile, p.corners, p.cs);
+    // The list procedure (primary_lists.cpp): the paper's under its rules; under rtt's, the
+    // lean pass for small tiles from the apex, else the walk.
+    const ListProcedure procedure =
+        !extended_ ? ListProcedure::paper
+        : takes_lean_pass(n, options_.lean_max_samples, p.corners) ? ListProcedure::lean
+                                                                   : ListProcedure::walk;
     // The lean pass builds the slope quad only when it first needs it (most that give up do
     // not).
-    const bool lean = extended_ && takes_lean_pass(n, options_.lean_max_samples, corners);
-    const auto trace_all = [&](Decline why) {
+    const bool shaft = procedure == ListProcedure::lean ? make_shaft_corners(p.corners, p.shaft)
+                                                        : make_shaft(p.corners, p.shaft);
+    const ListOutcome outcome = !shaft ? ListOutcome::untraced
+                                : procedure == ListProcedure::lean  ? list_lean(tile, p)
+                                : procedure == ListProcedure::walk  ? list_walk(tile, p)
+                                                                    : list_paper(tile, p);
+    if (!shaft) p.declined = Decline::no_shaft;
+    if (outcome == ListOutcome::untraced) {
         trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
-        count_decline(st, why);
-    };
-    if (!(lean ? make_shaft_corners(corners, shaft) : make_shaft(corners, shaft)))
-        return trace_all(Decline::no_shaft);
-    CornerResult& res = tls_corners;
-    PrimaryEnd end;
-    bool listed = false;
-    Decline declined = Decline::none;  // why, when not listed
-    bool open = false;                  // listed by a walk that completed without an end
-    std::optional<ShaftRegion> region;  // primary_region(shaft, end), once it is built
-    if (lean) {
-        // Small tiles (takes_lean_pass): the paper's procedure, leaner than the walk. The
-        // corners go through the tree as one SSE packet and the pass stops at the first sign of
-        // incoherence (the tile is then traced by the widest packets at once); nodes no corner
-        // enters are deferred untested and shaft culled against R afterwards, 16 boxes per test
-        // (collect_deferred, within deferred_budget). Exact as rtt-paper: every leaf whose box
-        // may meet R is tested (corner_pass.h).
-        const CornerStatus status = trace_corners<Query::closest_hit, CornerPass::lean>(
-            tree_, triangles_, shaft, nullptr, corners, tls_mailbox, res);
-        if (status == CornerStatus::untraced) return trace_all(res.declined);
-        for (int i = 0; i < 4; ++i) hits[cs[i]] = res.hit[i];
-        // One plane P for the 4 hits, as the walk asks (primary_end): R ends on P.
-        if (status != CornerStatus::traced)
-            declined = res.declined;
-        else if (!primary_end(shaft, corners, res.hit, end) || end.plane_id == no_plane)
-            declined = Decline::no_end;
-        else if (!complete_shaft(shaft))
-            declined = Decline::no_shaft;
-        else
-            listed = true;
-        if (listed) {
-            region.emplace(primary_region(shaft, end));
-            listed = collect_deferred<Query::closest_hit>(tree_, triangles_, shaft, *region,
-                                                          deferred_budget(n), tls_mailbox,
-                                                          res) == CornerStatus::traced;
-            if (!listed) declined = res.declined;
-        }
-    } else if (extended_) {
-        // One walk through the shaft (walk.h), narrowed as the corners' hits come nearer.
-        // Each region must contain the next one (walk.h): the end offset and tolerance
-        // only shrink with the hits.
-        //  * When the 4 hits first lie on one plane P, R narrows to P, and the walk gives up
-        //    if the hits later move to another plane (the regions of two planes need not nest
-        //    once the slope quad is grown): the whole tile is traced.
-        //  * When they first lie on several planes, R's slab end narrows only, and inner rays
-        //    are answered within the slab (an object's silhouette over a wall: nearly all of
-        //    them). The walk takes camera tiles from K = 3 on, where this saves far more than
-        //    the longer walk and list cost, and reflected tiles (room 1280x960, K = 2: 221,932
-        //    reflected rays answered against 201,900 when several planes gave up, same speed).
-        ShaftRegion walk_region(shaft, tree_.bounds, shaft.start_lo, pos_inf);
-        uint32_t plane = no_plane;
-        bool slab_only = false;
-        const auto narrow = [&](const PacketHit<4>& best, ShaftRegion& r) {
-            PrimaryEnd e;
-            if (!primary_end(shaft, corners, best.t, best.tri, e)) return Narrowed::same;
-            if (plane == no_plane && !slab_only) {
-                slab_only = e.plane_id == no_plane;
-                plane = e.plane_id;
-            }
-            if (slab_only) e.plane_id = no_plane;  // the slab's end only
-            if (e.plane_id != plane) return Narrowed::abandon;
-            narrow_to(r, e);
-            return Narrowed::smaller;
-        };
-        const CornerStatus status = cull_shaft<Query::closest_hit>(
-            tree_, triangles_, shaft, walk_region,
-            walk_budget(n, is_region(tile.width, tile.height, tile.cell)), tls_mailbox, res,
-            narrow);
-        if (status == CornerStatus::untraced) return trace_all(res.declined);
-        for (int i = 0; i < 4; ++i) hits[cs[i]] = res.hit[i];
-        if (primary_end(shaft, corners, res.hit, end)) {
-            listed = slab_only || end.plane_id != no_plane;
-            if (!listed) declined = Decline::no_end;
-        } else {
-            // A corner missed: `narrow` never narrowed, and the completed walk listed every
-            // triangle an accepted ray can hit anywhere in the cone beyond the start (within
-            // the scene's bounds), so a ray that hits none of them misses
-            // (docs/design.md, "Walks without an end").
-            open = listed = true;
-            end.end_limit = pos_inf;
-            end.plane_id = no_plane;
-        }
-    } else {
-        CornerStatus status = trace_corners<Query::closest_hit>(tree_, triangles_, shaft, nullptr,
-                                                                corners, tls_mailbox, res);
-        if (status == CornerStatus::untraced) {
-            RayPacket<4> p;
-            for (int i = 0; i < 4; ++i) p.set(i, corners[i]);
-            trace_packet<4>(tree_, triangles_, p, 0xF, res.hit);
-        }
-        for (int i = 0; i < 4; ++i) hits[cs[i]] = res.hit[i];
-        const bool one_triangle = res.hit[1].tri == res.hit[0].tri &&
-                                  res.hit[2].tri == res.hit[0].tri &&
-                                  res.hit[3].tri == res.hit[0].tri;
-        if (status != CornerStatus::traced)
-            declined = res.declined;
-        else if (!res.coherent)
-            declined = Decline::corners_parted;
-        else if (!one_triangle || !primary_end(shaft, corners, res.hit, end) ||
-                 end.plane_id == no_plane)
-            declined = Decline::no_end;
-        else if (collect_deferred<Query::closest_hit>(tree_, triangles_, shaft,
-                                                      primary_region(shaft, end),
-                                                      deferred_budget(n), tls_mailbox,
-                                                      res) != CornerStatus::traced)
-            declined = res.declined;
-        else
-            listed = true;
+        count_decline(st, p.declined);
+        return;
     }
+    CornerResult& res = tls_corners;
+    for (int i = 0; i < 4; ++i) hits[p.cs[i]] = res.hit[i];
 
     SampleBits need(n);
-    if (listed) {
+    if (outcome == ListOutcome::listed) {
         // "Beyond the end" (conservative_tests.h, test (d)): a triangle whose vertices all lie
         // beyond end_limit along kz cannot be hit inside R; nor can one whose bounding box misses R
         // (the walk's own rule, walk.h; the walk may have listed it under a larger region).
         RelevantList& list = res.list;
-        if (!open && !region) region.emplace(primary_region(shaft, end));
-        int kept = open ? list.count : 0;  // the walk's region was the final one
+        const PrimaryEnd& end = p.end;
+        if (!p.open && !p.region) p.region.emplace(primary_region(p.shaft, end));
+        int kept = p.open ? list.count : 0;  // the walk's region was the final one
         for (int j = kept; j < list.count; ++j) {
             const TriangleVerts& tri = triangles_[list.tri[j]];
             BoxV box;
@@ -223,26 +130,26 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
             box.hi = max(max(BoxV::lanes(tri.v0), BoxV::lanes(tri.v1)), BoxV::lanes(tri.v2));
             if (!(list.min_offset[j] * (1.f - 16.f * unit_roundoff) >
                   end.end_limit * (1.f + 4.f * unit_roundoff)) &&
-                region->meets(box)) {
+                p.region->meets(box)) {
                 list.tri[kept] = list.tri[j];
                 list.min_offset[kept++] = list.min_offset[j];
             }
         }
         list.count = kept;
-        const uint64_t answered = answer_primary(tile, shaft, list, end.end_limit,
+        const uint64_t answered = answer_primary(tile, p.shaft, list, end.end_limit,
                                                  end.plane_id != no_plane ? &end.plane : nullptr,
                                                  end.end_tol, hits, answers, need);
         st.rtt_tiles += 1;
         st.relevant_sum += uint64_t(list.count);
         st.answered += answered;
-        if (open) {
+        if (p.open) {
             st.open_tiles += 1;
             st.empty_tiles += uint64_t(list.count == 0);
         }
     } else {
-        count_decline(st, declined);
+        count_decline(st, p.declined);
         for (int s = 0; s < n; ++s)
-            if (s != cs[0] && s != cs[1] && s != cs[2] && s != cs[3]) need.set(s);
+            if (s != p.cs[0] && s != p.cs[1] && s != p.cs[2] && s != p.cs[3]) need.set(s);
     }
     if (need.none(n)) return;
     for_each_ray_block<fallback_width>(
@@ -317,23 +224,5 @@ uint64_t RttTracer::answer_primary(const RayTile& tile, const Shaft& s, const Re
 }
 
 }  // namespace rtt_detail
-
-void RttOptions::validate() const {
-    if (walk_budget_base < 1 || walk_budget_per_sample < 0 || deferred_budget_base < 1)
-        throw Error(
-            "RttOptions: the walk and deferred budgets must be at least 1 node (per-sample part >= "
-            "0)");
-    if (region_budget_divisor < 1)
-        throw Error("RttOptions: region_budget_divisor must be at least 1");
-    if (lean_max_samples < 0 || lean_max_samples > rtt_max_samples_per_tile)
-        throw Error("RttOptions: lean_max_samples must be in 0.." +
-                    std::to_string(rtt_max_samples_per_tile));
-}
-
-std::unique_ptr<Tracer> make_rtt_tracer(const Scene& scene, const KdTree& tree,
-                                        const RttOptions& options) {
-    options.validate();
-    return std::make_unique<rtt_detail::RttTracer>(scene, tree, options);
-}
 
 }  // namespace rtt

@@ -10,7 +10,9 @@
 //   deferred_nodes.cpp    shaft culling of the nodes they left out;
 //   inner_rays.h          the inner rays K at a time against the list;
 //   tile.h                tile helpers: samples still to trace, corners, end planes;
-//   primary_tiles.cpp     primary and reflected tiles (and the factory);
+//   primary_lists.cpp     the procedures that list a primary tile: lean pass, walk, paper;
+//   primary_tiles.cpp     primary and reflected tiles: the list's use and the answers;
+//   rtt_tracer.cpp        RttOptions' checks and the factory;
 //   shadow_tiles.cpp      shadow segments.
 // The fallback for every ray RTT does not answer is the widest packet tracer
 // (src/trace/trace_packet.h, fed by src/trace/packet_blocks.h).
@@ -57,6 +59,7 @@
 // This header: the tracer's class and shared constants (internal to this folder).
 #pragma once
 
+#include <optional>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -104,6 +107,12 @@ inline void count_decline(TraceStats& st, Decline why) {
     }
 }
 
+/// The procedures that make a primary shaft's list (primary_lists.cpp).
+enum class ListProcedure { lean, walk, paper };
+/// What a list procedure left: a list to answer from (`listed`); the corners answered and the
+/// rest to trace (`declined`); nothing answered, the whole tile to trace (`untraced`).
+enum class ListOutcome { listed, declined, untraced };
+
 /// Per-thread scratch (tracers are called concurrently): the mailbox of the current tile and
 /// the corners' result with its list and deferred nodes (too big for the stack of a tile call).
 inline thread_local TriangleMailbox tls_mailbox;
@@ -140,6 +149,12 @@ private:
     static bool is_region(int width, int height, int cell) {
         return cell > 0 && (width > cell || height > cell);
     }
+    /// A primary shaft tile as the list procedures see it: its corners, the shaft, and what they
+    /// found (the end of R, the region, why a tile is declined).
+    struct PrimaryShaft;
+    ListOutcome list_lean(const RayTile& tile, PrimaryShaft& p) const;
+    ListOutcome list_walk(const RayTile& tile, PrimaryShaft& p) const;
+    ListOutcome list_paper(const RayTile& tile, PrimaryShaft& p) const;
     /// One shaft tile: answers every ray, adds the rays answered from a list, the tile and its
     /// list length to `st`.
     void intersect_shaft(const RayTile& tile, std::span<Hit> hits, std::span<SampleAnswer> answers,
@@ -154,6 +169,15 @@ private:
         uint32_t plane_id = no_plane;
         FacingPlane plane;
         float end_limit = 0.f, end_tol = 0.f;
+    };
+    struct PrimaryShaft {
+        Ray corners[4];
+        int cs[4];  ///< Their samples.
+        Shaft shaft;
+        PrimaryEnd end;
+        std::optional<ShaftRegion> region;  ///< primary_region(shaft, end), once built.
+        bool open = false;                  ///< Listed by a walk without an end.
+        Decline declined = Decline::none;   ///< Why, when not listed.
     };
     /// False when some corner missed.
     bool primary_end(const Shaft& shaft, const Ray (&corners)[4], const vfloat4& t,

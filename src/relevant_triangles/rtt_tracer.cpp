@@ -1,0 +1,30 @@
+// RttOptions' checks and the factory of the RTT tracers (rtt_tracer.h).
+#include <memory>
+#include <string>
+
+#include "relevant_triangles/rtt_tracer.h"
+#include "rtt/error.h"
+#include "rtt/rtt_options.h"
+#include "trace/factories.h"
+
+namespace rtt {
+
+void RttOptions::validate() const {
+    if (walk_budget_base < 1 || walk_budget_per_sample < 0 || deferred_budget_base < 1)
+        throw Error(
+            "RttOptions: the walk and deferred budgets must be at least 1 node (per-sample part >= "
+            "0)");
+    if (region_budget_divisor < 1)
+        throw Error("RttOptions: region_budget_divisor must be at least 1");
+    if (lean_max_samples < 0 || lean_max_samples > rtt_max_samples_per_tile)
+        throw Error("RttOptions: lean_max_samples must be in 0.." +
+                    std::to_string(rtt_max_samples_per_tile));
+}
+
+std::unique_ptr<Tracer> make_rtt_tracer(const Scene& scene, const KdTree& tree,
+                                        const RttOptions& options) {
+    options.validate();
+    return std::make_unique<rtt_detail::RttTracer>(scene, tree, options);
+}
+
+}  // namespace rtt
