@@ -254,11 +254,15 @@ void compare_tile(std::vector<Checked>& checked, std::span<const TriangleVerts> 
     }
 }
 
-/// Both Embree kinds over `scene`.
+/// Every Embree kind: its three ways of taking rays, with HIGH and MEDIUM builds.
+constexpr const char* embree_kinds[] = {"embree",        "embree-stream",        "embree1",
+                                        "embree-medium", "embree-stream-medium", "embree1-medium"};
+
+/// Every Embree kind over `scene`.
 std::vector<Checked> embree_tracers(const Scene& scene) {
     static const KdTree no_tree;  // the Embree tracers build their own BVH
     std::vector<Checked> checked;
-    for (const char* kind : {"embree", "embree1"}) checked.push_back({make_tracer(kind, scene, no_tree), {}});
+    for (const char* kind : embree_kinds) checked.push_back({make_tracer(kind, scene, no_tree), {}});
     return checked;
 }
 
@@ -316,7 +320,7 @@ TEST(Embree, BuildInfoOnlyForEmbreeKinds) {
     const KdTree no_tree;
     EXPECT_EQ(embree_build_seconds(*make_tracer("brute", scene, no_tree)), -1.0);
     if (!has_embree()) GTEST_SKIP() << "built without Embree";
-    for (const char* kind : {"embree", "embree1"}) {
+    for (const char* kind : embree_kinds) {
         const std::unique_ptr<Tracer> t = make_tracer(kind, scene, no_tree);
         EXPECT_EQ(t->name(), kind);
         EXPECT_GE(embree_build_seconds(*t), 0.0);
@@ -338,7 +342,7 @@ TEST(Embree, PartialBlocksAndInactiveLanes) {
             rays.push_back(Ray{{-0.9f + 0.27f * float(x), -0.85f + 0.31f * float(y), 2.f}, {0.f, 0.f, -1.f}});
     rays[3].tmax = -1.f;                          // inactive
     rays[10] = Ray{{5.f, 5.f, 2.f}, {0.f, 0.f, -1.f}};  // misses
-    for (const char* kind : {"embree", "embree1"}) {
+    for (const char* kind : embree_kinds) {
         const std::unique_ptr<Tracer> t = make_tracer(kind, scene, no_tree);
         std::vector<Hit> hits(rays.size(), Hit{0.f, 12345});
         TraceStats stats;

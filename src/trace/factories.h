@@ -16,10 +16,22 @@ std::unique_ptr<Tracer> make_ray_tracer(const Scene& scene, const KdTree& tree);
 template <int K>
 std::unique_ptr<Tracer> make_packet_tracer(const Scene& scene, const KdTree& tree);
 #ifdef RTT_HAVE_EMBREE
-/// Embree 3 (trace_embree.cpp): "embree" traces 4x4 blocks with rtcIntersect16/rtcOccluded16,
-/// "embree1" one ray at a time. Both ignore `tree` and build their own BVH.
-std::unique_ptr<Tracer> make_embree_tracer(const Scene& scene, const KdTree& tree);
-std::unique_ptr<Tracer> make_embree1_tracer(const Scene& scene, const KdTree& tree);
+/// Embree 3 (trace_embree.cpp): how its tracers hand it rays. They build their own BVH.
+enum class EmbreeMode {
+    packets,  ///< "embree": 4x4 blocks, rtcIntersect16/rtcOccluded16, coherent.
+    stream,   ///< "embree-stream": one rtcIntersect1M/rtcOccluded1M per tile, coherent.
+    single,   ///< "embree1": rtcIntersect1/rtcOccluded1 per ray.
+};
+/// The kind's name: the mode's, with "-medium" for Embree's MEDIUM build quality (else HIGH).
+inline const char* embree_kind_name(EmbreeMode mode, bool medium) {
+    switch (mode) {
+        case EmbreeMode::packets: return medium ? "embree-medium" : "embree";
+        case EmbreeMode::stream: return medium ? "embree-stream-medium" : "embree-stream";
+        case EmbreeMode::single: break;
+    }
+    return medium ? "embree1-medium" : "embree1";
+}
+std::unique_ptr<Tracer> make_embree_tracer(const Scene& scene, EmbreeMode mode, bool medium);
 #endif
 
 }  // namespace rtt

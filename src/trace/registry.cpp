@@ -23,6 +23,12 @@ struct TracerEntry {
     std::function<std::unique_ptr<Tracer>(const Scene&, const KdTree&)> make;
 };
 
+#ifdef RTT_HAVE_EMBREE
+auto embree(EmbreeMode mode, bool medium) {
+    return [=](const Scene& s, const KdTree&) { return make_embree_tracer(s, mode, medium); };
+}
+#endif
+
 const std::vector<TracerEntry>& registry() {
     static const std::vector<TracerEntry> entries = {
         {"ray", make_ray_tracer},
@@ -37,8 +43,12 @@ const std::vector<TracerEntry>& registry() {
         {"packet16", make_packet_tracer<16>},
 #endif
 #ifdef RTT_HAVE_EMBREE
-        {"embree", make_embree_tracer},
-        {"embree1", make_embree1_tracer},
+        {"embree", embree(EmbreeMode::packets, false)},
+        {"embree-stream", embree(EmbreeMode::stream, false)},
+        {"embree1", embree(EmbreeMode::single, false)},
+        {"embree-medium", embree(EmbreeMode::packets, true)},
+        {"embree-stream-medium", embree(EmbreeMode::stream, true)},
+        {"embree1-medium", embree(EmbreeMode::single, true)},
 #endif
     };
     return entries;

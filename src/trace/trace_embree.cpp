@@ -3,11 +3,16 @@
 //
 //  * "embree":  each tile is cut into 4x4 blocks of its sample grid, one rtcIntersect16 /
 //               rtcOccluded16 per block, in coherent mode (RTC_INTERSECT_CONTEXT_FLAG_COHERENT):
-//               Embree's frustum-culled packet traversal, its best case for camera rays.
+//               Embree's frustum-culled packet traversal, its best case for camera rays at K = 1.
+//  * "embree-stream": one rtcIntersect1M / rtcOccluded1M per tile (its active segments), the
+//               rays in the tile's order, coherent mode: Embree 3's stream path, which groups
+//               them by octant into large frusta itself; its best case at K = 4 on dense meshes.
 //  * "embree1": rtcIntersect1 / rtcOccluded1 per ray, Embree's single-ray kernels.
+// Each with build quality HIGH (SAH with spatial splits), and as "<kind>-medium" with MEDIUM,
+// Embree's default, which builds several times faster.
 //
 // Scene: one triangle geometry holding the scene's vertices and indices unchanged, so Embree's
-// primID is our triangle index (CONVENTIONS). Build quality HIGH (SAH with spatial splits).
+// primID is our triangle index (CONVENTIONS).
 // Scene flags: none, Embree's default fast mode. RTC_SCENE_FLAG_ROBUST (Pluecker triangle test,
 // conservative box tests) would close most of its holes on shared edges, but traces 10-13 %
 // slower and makes Embree 3.13 ignore the HIGH build quality (robust scenes get the plain SAH
@@ -32,6 +37,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "rtt/error.h"
 #include "trace/factories.h"
@@ -119,7 +125,9 @@ constexpr Ray idle_ray{Vec3f{0.f}, Vec3f{0.f, 0.f, 1.f}, 0.f, 0.f};
 
 class EmbreeTracer final : public Tracer, public OwnAccelerationInfo {
 public:
-    EmbreeTracer(const Scene& scene, bool packets) : log_(std::make_unique<DeviceLog>()), packets_(packets) {
+    EmbreeTracer(const Scene& scene, EmbreeMode mode, bool medium)
+        : log_(std::make_unique<DeviceLog>()), mode_(mode), medium_(medium) {
+        const RTCBuildQuality quality = medium ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH;
         device_.reset(rtcNewDevice(nullptr));
         if (!device_) throw Error("embree: cannot create a device (error " +
                                   std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
@@ -128,10 +136,10 @@ public:
 
         scene_.reset(rtcNewScene(device_.get()));
         rtcSetSceneFlags(scene_.get(), RTC_SCENE_FLAG_NONE);
-        rtcSetSceneBuildQuality(scene_.get(), RTC_BUILD_QUALITY_HIGH);
+        rtcSetSceneBuildQuality(scene_.get(), quality);
         if (scene.triangle_count() > 0) {
             RTCGeometry geom = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
-            rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_HIGH);
+            rtcSetGeometryBuildQuality(geom, quality);
             // rtcSetNewGeometryBuffer pads the vertex buffer as Embree's 16-byte SIMD loads need.
             void* verts = rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                   sizeof(Vec3f), scene.vertices.size());
@@ -155,25 +163,27 @@ public:
         throw_if_failed("building the BVH");
     }
 
-    std::string_view name() const override { return packets_ ? "embree" : "embree1"; }
+    std::string_view name() const override { return embree_kind_name(mode_, medium_); }
     double build_seconds() const override { return build_seconds_; }
     size_t memory_bytes() const override { return size_t(std::max<int64_t>(log_->bytes.load(), 0)); }
 
     void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
                    std::span<SampleAnswer> answers) const override {
-        if (packets_)
-            intersect16(tile, hits);
-        else
-            intersect1(tile, hits);
+        switch (mode_) {
+            case EmbreeMode::packets: intersect16(tile, hits); break;
+            case EmbreeMode::stream: intersect_stream(tile, hits); break;
+            case EmbreeMode::single: intersect1(tile, hits); break;
+        }
         record_traced_tile(tile.rays.size(), stats, answers);
     }
 
     void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
                   std::span<SampleAnswer> answers) const override {
-        if (packets_)
-            occluded16(tile, visible);
-        else
-            occluded1(tile, visible);
+        switch (mode_) {
+            case EmbreeMode::packets: occluded16(tile, visible); break;
+            case EmbreeMode::stream: occluded_stream(tile, visible); break;
+            case EmbreeMode::single: occluded1(tile, visible); break;
+        }
         uint64_t n = 0;
         for (size_t i = 0; i < tile.points.size(); ++i) n += tile.active[i] != 0;
         record_traced_tile(n, stats, answers);
@@ -220,6 +230,47 @@ private:
                 }
             }
         }
+    }
+
+    // The stream kernels take an array of rays; one call per tile, in the tile's order. The
+    // array is per thread (tiles are traced concurrently) and reused from tile to tile.
+    void intersect_stream(const RayTile& tile, std::span<Hit> hits) const {
+        thread_local std::vector<RTCRayHit> rays;
+        thread_local std::vector<uint32_t> index;
+        RTCIntersectContext ctx = coherent_context();
+        rays.clear();
+        index.clear();
+        for (size_t i = 0; i < tile.rays.size(); ++i) {
+            hits[i] = Hit{};
+            if (!active(tile.rays[i])) continue;
+            RTCRayHit& rh = rays.emplace_back();
+            set_ray(rh.ray, tile.rays[i]);
+            rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+            index.push_back(uint32_t(i));
+        }
+        if (rays.empty()) return;
+        rtcIntersect1M(scene_.get(), &ctx, rays.data(), unsigned(rays.size()), sizeof(RTCRayHit));
+        for (size_t j = 0; j < rays.size(); ++j)
+            if (rays[j].hit.geomID != RTC_INVALID_GEOMETRY_ID)
+                hits[index[j]] = Hit{rays[j].ray.tfar, rays[j].hit.primID};
+    }
+
+    void occluded_stream(const SegmentTile& tile, std::span<uint8_t> visible) const {
+        thread_local std::vector<RTCRay> rays;
+        thread_local std::vector<uint32_t> index;
+        RTCIntersectContext ctx = coherent_context();
+        rays.clear();
+        index.clear();
+        for (size_t i = 0; i < tile.points.size(); ++i) {
+            visible[i] = 0;
+            if (!tile.active[i]) continue;
+            set_ray(rays.emplace_back(), shadow_ray(tile.light, tile.points[i]));
+            index.push_back(uint32_t(i));
+        }
+        if (rays.empty()) return;
+        rtcOccluded1M(scene_.get(), &ctx, rays.data(), unsigned(rays.size()), sizeof(RTCRay));
+        for (size_t j = 0; j < rays.size(); ++j) visible[index[j]] = rays[j].tfar != neg_inf;
     }
 
     void intersect1(const RayTile& tile, std::span<Hit> hits) const {
@@ -274,18 +325,15 @@ private:
     std::unique_ptr<DeviceLog> log_;  // outlives device_: Embree's callbacks point into it
     DeviceHandle device_;
     SceneHandle scene_;
-    bool packets_;
+    EmbreeMode mode_;
+    bool medium_;
     double build_seconds_ = 0.0;
 };
 
 }  // namespace
 
-std::unique_ptr<Tracer> make_embree_tracer(const Scene& scene, const KdTree&) {
-    return std::make_unique<EmbreeTracer>(scene, true);
-}
-
-std::unique_ptr<Tracer> make_embree1_tracer(const Scene& scene, const KdTree&) {
-    return std::make_unique<EmbreeTracer>(scene, false);
+std::unique_ptr<Tracer> make_embree_tracer(const Scene& scene, EmbreeMode mode, bool medium) {
+    return std::make_unique<EmbreeTracer>(scene, mode, medium);
 }
 
 }  // namespace rtt
