@@ -318,12 +318,14 @@ TEST(BenchCli, BuildTableTimesBothBuildsAndDescribesTheTree) {
         EXPECT_GT(b.at("kdtree_s").get<double>(), 0.0);
         if (has_tracer("embree")) {
             EXPECT_GT(b.at("embree_bvh_s").get<double>(), 0.0);
+            EXPECT_GT(b.at("embree_bvh_medium_s").get<double>(), 0.0);
         }
     }
     const std::string out = read_file(dir / "out.txt");
     EXPECT_NE(out.find("kd SAH cost"), std::string::npos) << out;
     if (has_tracer("embree")) {
-        EXPECT_NE(out.find("of Embree's BVH build"), std::string::npos) << out;
+        EXPECT_NE(out.find("of Embree's HIGH build"), std::string::npos) << out;
+        EXPECT_NE(out.find("of its MEDIUM build"), std::string::npos) << out;
     }
     std::filesystem::remove_all(dir);
 }
