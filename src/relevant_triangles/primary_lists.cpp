@@ -49,10 +49,8 @@ ListOutcome RttTracer::list_walk(const RayTile& tile, PrimaryShaft& p) const {
     //    hits later move to another plane (the regions of two planes need not nest once the
     //    slope quad is grown): the whole tile is traced.
     //  * When they first lie on several planes, R's slab end narrows only, and inner rays are
-    //    answered within the slab (an object's silhouette over a wall: nearly all of them). The
-    //    walk takes camera tiles from K = 3 on, where this saves far more than the longer walk
-    //    and list cost, and reflected tiles (room 1280x960, K = 2: 221,932 reflected rays
-    //    answered against 201,900 when several planes gave up, same speed).
+    //    answered within the slab (an object's silhouette over a wall: nearly all of them).
+    //    Measured in docs/benchmarks.md, "The lean corner pass at K = 2".
     const int n = int(tile.rays.size());
     CornerResult& res = tls_corners;
     ShaftRegion walk_region(p.shaft, tree_.bounds, p.shaft.start_lo, pos_inf);
