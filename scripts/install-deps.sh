@@ -7,6 +7,7 @@ packages=(
   libassimp-dev libtbb-dev libcli11-dev nlohmann-json3-dev libpng-dev libstb-dev libopenexr-dev
   libgtest-dev libbenchmark-dev libembree-dev
   python3-dev pybind11-dev python3-numpy python3-pytest  # the Python module and its tests
+  python3-venv python3-pip python3-setuptools            # `pip install .` (scripts/pip-test.sh)
   libopenmpi-dev openmpi-bin                             # distributed rendering under mpirun
   libglfw3-dev libgl-dev libgl1-mesa-dri  # rtt view: a window (GLFW) drawn with OpenGL (Mesa)
   xvfb xauth xdotool                      # its tests: a headless X server and synthetic input

@@ -20,6 +20,7 @@ stage "release ctest" ctest --test-dir build --output-on-failure -j"$(nproc)"
 # rtt as a package: installed into a temporary prefix, used by examples/ from a clean folder.
 stage "install and examples" scripts/examples.sh
 stage "python tests" scripts/python-tests.sh
+stage "pip install" scripts/pip-test.sh
 stage "mpi tests" scripts/mpi-tests.sh
 
 # The same suite under AddressSanitizer + UndefinedBehaviorSanitizer (gcc, -O1 -g, debug checks
