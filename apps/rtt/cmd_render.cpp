@@ -173,9 +173,7 @@ RenderJobResult run_render_job(const RenderJob& job) {
     std::optional<Camera> camera;
     if (!job.camera.empty()) camera = parse_camera(job.camera);
     const std::string tracer_kind = job.tracer.empty() ? default_tracer_kind() : job.tracer;
-    const std::vector<std::string> kinds = tracer_kinds();
-    if (std::find(kinds.begin(), kinds.end(), tracer_kind) == kinds.end())
-        throw Error("unknown tracer '" + tracer_kind + "' (this build has: " + joined(kinds) + ")");
+    check_tracer_kind(tracer_kind);
     opt.hits_buffer = !job.hits.empty();
     opt.shadow_buffer = !job.shadows.empty();
     opt.primary_map = !job.map_primary.empty();

@@ -150,8 +150,12 @@ void visible_rays(const Tracer& tracer, std::span<const Ray> rays, std::span<uin
 /// Names accepted by make_tracer on this build ("ray", "packet", "rtt", ...).
 std::vector<std::string> tracer_kinds();
 
+/// Throws rtt::Error, naming the kinds this build has, when `kind` is not one of them: the one
+/// check (and message) of a tracer kind for every caller (command line, viewer, Python).
+void check_tracer_kind(std::string_view kind);
+
 /// Creates a tracer over `scene` and `tree` (both must outlive it). Throws rtt::Error for an
-/// unknown kind, or one this machine or build cannot run.
+/// unknown kind (check_tracer_kind), or one this machine or build cannot run.
 std::unique_ptr<Tracer> make_tracer(std::string_view kind, const Scene& scene, const KdTree& tree);
 
 }  // namespace rtt

@@ -81,7 +81,10 @@ py::tuple hit_arrays(const std::vector<Hit>& hits, std::vector<py::ssize_t> shap
 
 std::shared_ptr<BoundTracer> tracer_of(const std::shared_ptr<BoundScene>& scene, const std::string& kind) {
     py::gil_scoped_release unlocked;  // the first tracer builds the kd-tree
-    return values_checked([&] { return std::make_shared<BoundTracer>(scene, kind); });
+    return values_checked([&] {
+        check_tracer_kind(kind);  // before the kd-tree is built for nothing
+        return std::make_shared<BoundTracer>(scene, kind);
+    });
 }
 
 /// One answer per ray of the arrays, computed by answer(rays, out) without the GIL (other

@@ -91,8 +91,8 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
     const int n = int(tile.rays.size());
     PrimaryShaft p;
     corners_of(tile, p.corners, p.cs);
-    // The list procedure (primary_lists.cpp): the paper's under its rules; under rtt's, the
-    // lean pass for small tiles from the apex, else the walk.
+    // The list procedure: the paper's under its rules; under rtt's, the lean pass for small
+    // tiles from the apex, else the walk.
     const ListProcedure procedure =
         !extended_ ? ListProcedure::paper
         : takes_lean_pass(n, options_.lean_max_samples, p.corners) ? ListProcedure::lean

@@ -10,7 +10,9 @@
 //   deferred_nodes.cpp    shaft culling of the nodes they left out;
 //   inner_rays.h          the inner rays K at a time against the list;
 //   tile.h                tile helpers: samples still to trace, corners, end planes;
-//   primary_lists.cpp     the procedures that list a primary tile: lean pass, walk, paper;
+//   list_lean.cpp,        the procedures that list a primary tile, one each: the lean corner
+//   list_walk.cpp,        pass, the shaft walk, the paper's corner packet (ListOutcome);
+//   list_paper.cpp
 //   primary_tiles.cpp     primary and reflected tiles: the list's use and the answers;
 //   rtt_tracer.cpp        RttOptions' checks and the factory;
 //   shadow_tiles.cpp      shadow segments.
@@ -107,7 +109,8 @@ inline void count_decline(TraceStats& st, Decline why) {
     }
 }
 
-/// The procedures that make a primary shaft's list (primary_lists.cpp).
+/// The procedures that make a primary shaft's list (list_lean.cpp, list_walk.cpp,
+/// list_paper.cpp). Each traces the corners into tls_corners (their hits, and the list).
 enum class ListProcedure { lean, walk, paper };
 /// What a list procedure left: a list to answer from (`listed`); the corners answered and the
 /// rest to trace (`declined`); nothing answered, the whole tile to trace (`untraced`).

@@ -62,12 +62,19 @@ std::vector<std::string> tracer_kinds() {
     return kinds;
 }
 
-std::unique_ptr<Tracer> make_tracer(std::string_view kind, const Scene& scene, const KdTree& tree) {
+void check_tracer_kind(std::string_view kind) {
     for (const TracerEntry& e : registry())
-        if (kind == e.kind) return e.make(scene, tree);
+        if (kind == e.kind) return;
     std::string known;
     for (const TracerEntry& e : registry()) known += (known.empty() ? "" : ", ") + std::string(e.kind);
     throw Error("unknown tracer '" + std::string(kind) + "' (this build has: " + known + ")");
+}
+
+std::unique_ptr<Tracer> make_tracer(std::string_view kind, const Scene& scene, const KdTree& tree) {
+    check_tracer_kind(kind);
+    for (const TracerEntry& e : registry())
+        if (kind == e.kind) return e.make(scene, tree);
+    return nullptr;  // not reached: check_tracer_kind threw
 }
 
 }  // namespace rtt

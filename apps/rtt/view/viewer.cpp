@@ -208,9 +208,7 @@ void run_viewer(const ViewerOptions& o) {
     std::vector<Vec3f> light_positions;
     for (const std::string& l : o.lights) light_positions.push_back(parse_vec3(l, "--light"));
     const std::string kind = o.tracer.empty() ? cli::default_tracer_kind() : o.tracer;
-    const std::vector<std::string> kinds = tracer_kinds();
-    if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end())
-        throw Error("unknown tracer '" + kind + "'");
+    check_tracer_kind(kind);
     ViewState state;
     state.tracers = cycled_tracers(kind);
     state.aa = o.aa;
