@@ -330,6 +330,25 @@ TEST(BenchCli, BuildTableTimesBothBuildsAndDescribesTheTree) {
     std::filesystem::remove_all(dir);
 }
 
+// `rtt bench answers`: ns per answered ray for each scene and K, and the limit kernel's.
+TEST(BenchCli, AnswersReportsNanosecondsPerAnsweredRay) {
+    const std::filesystem::path dir =
+        std::filesystem::temp_directory_path() / ("rtt_bench_answers_" + std::to_string(getpid()));
+    ASSERT_EQ(run_bench_cli("answers --quick --scenes room --json a.json", dir), 0)
+        << read_file(dir / "err.txt");
+    const nlohmann::json j = nlohmann::json::parse(read_file(dir / "a.json"));
+    const nlohmann::json& e = j.at("experiments").at(0);
+    EXPECT_EQ(e.at("id"), "answers");
+    const nlohmann::json& cells = e.at("extra").at("answers");
+    ASSERT_EQ(cells.size(), 2u);  // K = 1 and 4
+    for (const nlohmann::json& c : cells) {
+        EXPECT_GT(c.at("primary_answered_rays").get<uint64_t>(), 0u);
+        EXPECT_GT(c.at("primary_ns_per_answered_ray").get<double>(), 0.0);
+    }
+    for (const char* n : {"1", "4"}) EXPECT_GT(e.at("extra").at("limit_ns_per_ray").at(n).get<double>(), 0.0);
+    std::filesystem::remove_all(dir);
+}
+
 TEST(BenchCli, BadInputIsOneLineAndNonZero) {
     const std::filesystem::path dir =
         std::filesystem::temp_directory_path() / ("rtt_bench_bad_" + std::to_string(getpid()));

@@ -274,8 +274,11 @@ void add_bench_command(CLI::App& app) {
         {"build",
          "kd-tree build beside Embree's BVH build, 1 thread and all cores (also in embree)",
          {bench::run_build}},
+        {"answers",
+         "ns per ray rtt answers from a list, K=1 and 4, beside the limit of an answer",
+         {bench::run_answers}},
         {"all",
-         "Everything above except build, in that order",
+         "Everything above except build and answers, in that order",
          {bench::run_table1, bench::run_fig7, bench::run_fig8, bench::run_hq, bench::run_fig5,
           bench::run_embree}},
     };

@@ -1,0 +1,205 @@
+// What an answered ray costs (issue 29's micro benchmark): `rtt` timed on the tiles it answers
+// from a relevant list, per ray it answers there, primary and shadow, at K = 1 and 4; beside
+// it the limit, a kernel that does only what an answer must: make 16 camera directions in
+// registers (bit for bit the camera's), test them against N triangles with the watertight
+// test, and write the hits.
+#include <time.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "experiments/experiment_common.h"
+#include "geom/camera_simd.h"
+#include "geom/triangle_simd.h"
+#include "rtt/error.h"
+
+namespace rtt::bench {
+
+using namespace detail;
+
+namespace {
+
+double thread_cpu_seconds() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+/// The median of `reps` runs of `f`, in seconds of this thread's CPU time.
+template <typename F>
+double median_seconds(int reps, F&& f) {
+    std::vector<double> t;
+    for (int r = 0; r < reps; ++r) {
+        const double start = thread_cpu_seconds();
+        f();
+        t.push_back(thread_cpu_seconds() - start);
+    }
+    std::sort(t.begin(), t.end());
+    return t[t.size() / 2];
+}
+
+/// rtt on the answered tiles of one configuration: their time and the rays answered in them.
+struct AnsweredCost {
+    uint64_t tiles = 0, all_tiles = 0, answered = 0;
+    double seconds = 0;
+    double ns_per_ray() const { return answered ? 1e9 * seconds / double(answered) : 0.0; }
+};
+
+struct FrameCosts {
+    AnsweredCost primary, shadow;
+};
+
+FrameCosts answered_costs(const BenchConfig& config, const BenchScene& scene, int width,
+                          int height, int aa) {
+    const Workload workload(scene, width, height, aa, size_t(1) << 16, config.region);
+    const auto rtt = make_tracer("rtt", scene.scene, scene.tree);
+    const auto packet = make_tracer("packet", scene.scene, scene.tree);
+    const std::vector<Light>& lights = scene.scene.lights;
+    FrameCosts out;
+    for (int b = 0; b < workload.band_count(); ++b) {
+        Band band = workload.make_band(b);
+        workload.add_shadows(band, band.intersect(*packet));
+        const size_t n = band.tile_samples();
+        std::vector<Hit> hits(n);
+        std::vector<uint8_t> visible(n);
+        std::vector<SampleAnswer> answers(n);
+        const auto count_answered = [&](size_t m) {
+            return uint64_t(std::count_if(answers.begin(), answers.begin() + long(m),
+                                          [](SampleAnswer a) { return a != SampleAnswer::traced; }));
+        };
+        std::vector<size_t> tiles, jobs;
+        for (size_t t = 0; t < band.tile_count(); ++t) {
+            const size_t m = band.tile_size(t);
+            rtt->intersect(band.ray_tile(t), std::span(hits).first(m), nullptr,
+                           std::span(answers).first(m));
+            if (const uint64_t a = count_answered(m)) {
+                tiles.push_back(t);
+                out.primary.answered += a;
+            }
+        }
+        for (size_t j = 0; j < band.shadow_jobs.size(); ++j) {
+            const ShadowJob& job = band.shadow_jobs[j];
+            const size_t m = band.tile_size(job.tile);
+            rtt->occluded(band.segment_tile(job, lights[job.light].position),
+                          std::span(visible).first(m), nullptr, std::span(answers).first(m));
+            if (const uint64_t a = count_answered(m)) {
+                jobs.push_back(j);
+                out.shadow.answered += a;
+            }
+        }
+        out.primary.tiles += tiles.size();
+        out.primary.all_tiles += band.tile_count();
+        out.shadow.tiles += jobs.size();
+        out.shadow.all_tiles += band.shadow_jobs.size();
+        out.primary.seconds += median_seconds(config.repetitions, [&] {
+            for (const size_t t : tiles) {
+                band.prefetch_ray_tile(t + 1);
+                rtt->intersect(band.ray_tile(t), std::span(hits).first(band.tile_size(t)));
+            }
+        });
+        out.shadow.seconds += median_seconds(config.repetitions, [&] {
+            for (const size_t j : jobs) {
+                band.prefetch_shadow_job(j + 1);
+                const ShadowJob& job = band.shadow_jobs[j];
+                rtt->occluded(band.segment_tile(job, lights[job.light].position),
+                              std::span(visible).first(band.tile_size(job.tile)));
+            }
+        });
+    }
+    return out;
+}
+
+/// The limit of an answer, per ray: 16 camera directions made in registers, their watertight
+/// constants, `count` triangles tested (every ray hits the last, nearest one), the hits written.
+double limit_ns_per_ray(int count, int reps) {
+    constexpr int K = simd_max_width;
+    const CameraRays camera({{0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 40}, 1024, 768, 1);
+    const CameraTile tile = camera.tile(100, 80);
+    constexpr int side = 16;
+    std::vector<float> columns(side);
+    column_factors(tile, side, columns.data());
+    std::vector<TriangleVerts> tris;
+    for (int i = 0; i < count; ++i) {  // large triangles in front of the tile, farthest first
+        const float z = -10.f + float(i);
+        tris.push_back({{-50, -50, z}, {50, -50, z}, {0, 50, z}});
+    }
+    std::vector<Hit> hits(size_t(side) * side);
+    const int blocks = side * side / K, rounds = 20000;
+    const double s = median_seconds(reps, [&] {
+        for (int round = 0; round < rounds; ++round)
+            for (int blk = 0; blk < blocks; ++blk) {
+                const int base = blk * K, row = base / side, col = base % side;
+                const Vec3v<K> dir = camera_directions<K>(
+                    camera.frame(), vfloat<K>::loadu(&columns[size_t(col)]), row_factor(tile, row));
+                const WatertightPacket<K> wp(Vec3v<K>(camera.origin()), dir, vfloat<K>(0.f),
+                                             vfloat<K>(pos_inf), vbool<K>(true));
+                PacketHit<K> best;
+                for (int j = 0; j < count; ++j) {
+                    vfloat<K> t;
+                    const vbool<K> hit = intersect_watertight<K>(wp, vbool<K>(true), tris[size_t(j)], t);
+                    best.update(hit, t, uint32_t(j));
+                }
+                storeu_pairs(reinterpret_cast<float*>(hits.data() + base), best.t,
+                             as_float(best.tri));
+            }
+    });
+    if (hits[0].tri != uint32_t(count - 1))
+        throw Error("rtt bench answers: the limit kernel missed its nearest triangle");
+    return 1e9 * s / (double(rounds) * side * side);
+}
+
+}  // namespace
+
+ExperimentResult run_answers(const BenchConfig& config, SceneCache& scenes) {
+    ExperimentResult r;
+    r.id = "answers";
+    r.title = "What an answered ray costs: rtt on the tiles it answers, beside the limit";
+    std::fprintf(config.log, "\n== %s\n", r.title.c_str());
+    const int w = config.quick() ? 128 : 1024, h = config.quick() ? 96 : 768;
+    TextTable t;
+    t.title = "ns per answered ray (" + size_label(w, h) + ", 1 thread, CPU time, median of " +
+              std::to_string(config.repetitions) + ")";
+    t.header = {"scene", "K", "primary tiles answered", "primary ns/ray", "shadow jobs answered",
+                "shadow ns/ray"};
+    nlohmann::json cells = nlohmann::json::array();
+    for (const std::string& name : config.scenes) {
+        const BenchScene& scene = scenes.get(name);
+        for (const int k : {1, 4}) {
+            const FrameCosts c = answered_costs(config, scene, w, h, k);
+            const auto share = [](const AnsweredCost& a) {
+                return format_count(a.tiles) + " of " + format_count(a.all_tiles);
+            };
+            t.rows.push_back({name, std::to_string(k), share(c.primary),
+                              format_fixed(c.primary.ns_per_ray(), 1), share(c.shadow),
+                              format_fixed(c.shadow.ns_per_ray(), 1)});
+            cells.push_back({{"scene", name},
+                             {"aa", k},
+                             {"primary_answered_rays", c.primary.answered},
+                             {"primary_seconds", c.primary.seconds},
+                             {"primary_ns_per_answered_ray", c.primary.ns_per_ray()},
+                             {"shadow_answered_rays", c.shadow.answered},
+                             {"shadow_seconds", c.shadow.seconds},
+                             {"shadow_ns_per_answered_ray", c.shadow.ns_per_ray()}});
+            std::fprintf(config.log, "  measured %s K=%d\n", name.c_str(), k);
+        }
+    }
+    nlohmann::json limits = nlohmann::json::object();
+    for (const int count : {1, 4}) {
+        const double ns = limit_ns_per_ray(count, config.repetitions);
+        limits[std::to_string(count)] = ns;
+        t.notes.push_back("The limit with " + std::to_string(count) + " triangle" +
+                          (count > 1 ? "s" : "") + " per ray (make, test, write; " +
+                          std::to_string(simd_max_width) + " lanes): " + format_fixed(ns, 2) +
+                          " ns per ray.");
+    }
+    t.notes.push_back(
+        "ns/ray: the time of rtt on the tiles (shadow jobs) it answers at least one ray of, "
+        "corners, walk and the rays it traces there included, over the rays it answers.");
+    print_table(config.log, t);
+    r.tables.push_back(t);
+    r.extra["answers"] = cells;
+    r.extra["limit_ns_per_ray"] = limits;
+    return r;
+}
+
+}  // namespace rtt::bench
