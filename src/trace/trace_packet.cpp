@@ -7,6 +7,7 @@
 #include "simd/simd.h"
 #include "trace/factories.h"
 #include "trace/packet_blocks.h"
+#include "trace/root_clip.h"
 #include "trace/trace_ray.h"
 #include "trace/traced_tile.h"
 
@@ -90,24 +91,8 @@ RTT_FORCEINLINE TraversalResult<K, AnyHit> traverse_impl(const KdTree& tree,
                                  ((signbits(dir.y) & in) != 0 ? 2u : 0u) |
                                  ((signbits(dir.z) & in) != 0 ? 4u : 0u);
 
-    vf t0 = wp.tmin, t1 = wp.tmax;
-    const Bbox3f box = padded_bounds(tree.bounds);
-    vf dist(0.f);  // largest coordinate distance from the origin to the padded box
-    for (int a = 0; a < 3; ++a) {
-        const vf lo = vf(box.lo[a]) - orgv[a], hi = vf(box.hi[a]) - orgv[a];
-        const vf tn = lo * inv[a];
-        const vf tf = hi * inv[a];
-        const vb swap = tn > tf;
-        t0 = max(select(swap, tf, tn), t0);
-        t1 = min(select(swap, tn, tf), t1);
-        dist = max(max(abs(lo), abs(hi)), dist);  // non-negative, no NaN: order is irrelevant
-    }
-    // trace_ray's scene_t_scale s, and the axes along which a lane's direction is zero (its
-    // split distances are +-inf or NaN and take no margin).
-    const vf t_scale = dist / max(max(abs(dir.x), abs(dir.y)), abs(dir.z));
-    // Widen what the box cut by the split margin, within [tmin, tmax] (trace_ray.h).
-    t0 = select(t0 > wp.tmin, max(t0 - (abs(t0) + t_scale) * vf(kd_margin), wp.tmin), wp.tmin);
-    t1 = select(t1 < wp.tmax, min(t1 + (abs(t1) + t_scale) * vf(kd_margin), wp.tmax), wp.tmax);
+    vf t0, t1, t_scale;
+    clip_to_root<K>(padded_bounds(tree.bounds), orgv, dir, inv, wp.tmin, wp.tmax, t0, t1, t_scale);
     const vb dir_zero[3] = {dir.x == vf(0.f), dir.y == vf(0.f), dir.z == vf(0.f)};
     if constexpr (CollectStats) {
         stats->packets += 1;
