@@ -36,6 +36,7 @@ const std::vector<TracerEntry>& registry() {
         {"packet", make_packet_tracer<4>},
         {"rtt", [](const Scene& s, const KdTree& t) { return make_rtt_tracer(s, t); }},
         {"rtt-paper", [](const Scene& s, const KdTree& t) { return make_rtt_tracer(s, t, {.rules = RttRules::paper}); }},
+        {"frustum", make_frustum_tracer},
 #ifdef RTT_HAVE_SIMD8
         {"packet8", make_packet_tracer<8>},
 #endif
