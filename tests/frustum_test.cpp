@@ -189,12 +189,13 @@ TEST(FrustumTracer, EmptyRegionsMissEverything) {
 
 TEST(FrustumTracer, TilesWithoutOneOriginGoToPackets) {
     // Random origins and directions (some axis-parallel), finite intervals, shaft = false; and
-    // the same rays marked as a shaft, which share_origin() must refuse.
+    // the same rays marked as a shaft, which trace_frustum() must refuse.
     const Fixture f(soup(1000, 0.2f, Vec3f{0.f}, 11));
     std::mt19937 rng(12);
     std::uniform_real_distribution<float> u(-2.f, 2.f);
     Tally t;
     std::vector<Ray> rays(64);
+    std::vector<Hit> hits(64);
     for (int k = 0; k < 100; ++k) {
         for (Ray& r : rays) {
             r.org = Vec3f{u(rng), u(rng), u(rng)};
@@ -203,7 +204,7 @@ TEST(FrustumTracer, TilesWithoutOneOriginGoToPackets) {
             r.tmin = rng() % 3 ? 0.f : std::fabs(u(rng));
             r.tmax = rng() % 3 ? pos_inf : std::fabs(u(rng)) * 3.f;
         }
-        EXPECT_FALSE(share_origin(rays));
+        EXPECT_FALSE(trace_frustum(f.tree, f.triangles, rays, 8, 8, hits));
         check_tile(f, RayTile{8, 8, rays, k % 2 == 0}, {0.f, 3.f, 0.f}, t);
     }
     report("random rays", t);

@@ -21,13 +21,10 @@
 
 namespace rtt {
 
-/// Closest hit of every ray: hits[i] == trace_ray(tree, triangles, rays[i]). Every ray must
-/// have the origin of rays[0]. `width` x `height` is the rays' grid (row-major), used only to
-/// group neighbouring rays into SIMD blocks.
-void trace_frustum(const KdTree& tree, std::span<const TriangleVerts> triangles,
+/// Closest hit of every ray of a `width` x `height` grid (row-major; the grid only groups
+/// neighbours into SIMD blocks): hits[i] == trace_ray(tree, triangles, rays[i]). Returns false,
+/// touching nothing, when some ray's origin differs from rays[0]'s (bit for bit).
+bool trace_frustum(const KdTree& tree, std::span<const TriangleVerts> triangles,
                    std::span<const Ray> rays, int width, int height, std::span<Hit> hits);
-
-/// True when every ray has the origin of the first, bit for bit (what trace_frustum needs).
-bool share_origin(std::span<const Ray> rays);
 
 }  // namespace rtt
