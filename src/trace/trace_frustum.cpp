@@ -127,13 +127,11 @@ struct SplitBound {
     }
 };
 
-/// The leaf's triangles for the rays that may find their answer in it (AnyHit: that may still
-/// meet a first blocker; a blocked lane's best t becomes -inf, which retires it). A ray takes part when
+/// The leaf's triangles for the rays that may find their answer in it. A ray takes part when
 /// trace_ray's interval there, re-derived from the leaf's nearest faces only (a superset:
 /// trace_ray takes the max and min over every ancestor split, these faces among them), is not
 /// empty and starts no later than the ray's closest hit so far. Blocks are first dropped whole
 /// with their bounds (K blocks at a time), then lane by lane.
-template <bool AnyHit>
 RTT_FORCEINLINE void visit_leaf(const KdNode& leaf, const Entry& e, const Vec3f& org, uint32_t neg,
                                 const KdTree& tree, std::span<const TriangleVerts> triangles,
                                 Block* blocks, BlockBounds& bounds) {
@@ -188,21 +186,15 @@ RTT_FORCEINLINE void visit_leaf(const KdNode& leaf, const Entry& e, const Vec3f&
                     ltb = min(d + (abs(d) + b.t_scale) * margin, ltb);
                 }
             }
-            vb lanes = vb::from_bits(b.valid) & (lta <= ltb) & (lta <= b.best.t);
+            const vb lanes = vb::from_bits(b.valid) & (lta <= ltb) & (lta <= b.best.t);
             if (none(lanes)) continue;
             for (uint32_t k = 0; k < count; ++k) {
                 const uint32_t id = ids[k];
                 vf t;
                 const vb hit = intersect_watertight<K, true>(b.wp, lanes, triangles[id], t);
                 if (none(hit)) continue;
-                if constexpr (AnyHit) {
-                    b.best.t = select(hit, vf(neg_inf), b.best.t);
-                    lanes = andnot(lanes, hit);
-                    if (none(lanes)) break;
-                } else {
-                    // inclusive tmax: a later equal-t hit still reaches the index tie-break
-                    b.wp.tmax = select(b.best.update(hit, t, id), t, b.wp.tmax);
-                }
+                // inclusive tmax: a later equal-t hit still reaches the index tie-break
+                b.wp.tmax = select(b.best.update(hit, t, id), t, b.wp.tmax);
             }
             bounds[BlockBounds::max_best][bi] =
                 reduce_max(select(vb::from_bits(b.valid), b.best.t, vf(neg_inf)))[0];
@@ -212,7 +204,6 @@ RTT_FORCEINLINE void visit_leaf(const KdNode& leaf, const Entry& e, const Vec3f&
 
 /// Traverses the tree with the blocks of one octant (direction sign bits `neg`, bit a = axis
 /// a), all from `org`. See trace_frustum.h for why every ray gets trace_ray's answer.
-template <bool AnyHit>
 void traverse_group(const KdTree& tree, std::span<const TriangleVerts> triangles,
                     const Vec3f& org, uint32_t neg, Block* blocks, BlockBounds& bounds,
                     int nblocks) {
@@ -292,7 +283,7 @@ void traverse_group(const KdTree& tree, std::span<const TriangleVerts> triangles
             e.tb = first_tb;
             (down ? e.lo : e.hi)[axis] = n.split;
         }
-        visit_leaf<AnyHit>(*node, e, org, neg, tree, triangles, blocks, bounds);
+        visit_leaf(*node, e, org, neg, tree, triangles, blocks, bounds);
     }
 }
 
@@ -309,18 +300,23 @@ struct Scratch {
     BlockBounds bounds;
 };
 
-/// Splits the squares of a `width` x `height` grid by the octant of their lanes' directions
-/// into s.parts; `load(x0, y0, f)` reads a square (as load_square) and returns the lanes that
-/// take part. False, at once, when a lane's origin differs from `org` (bit for bit).
-template <typename Load>
-bool split_by_octant(Scratch& s, int width, int height, const Vec3f& org, Load&& load) {
+}  // namespace
+
+bool trace_frustum(const KdTree& tree, std::span<const TriangleVerts> triangles,
+                   std::span<const Ray> rays, int width, int height, std::span<Hit> hits) {
+    if (rays.empty()) return true;
+    thread_local Scratch s;
+    // The grid in packet-shaped squares, so that the K lanes of a block are neighbours; each
+    // square's lanes split by the octant of their direction. Refused (false) at once when some
+    // ray has another origin.
+    const Vec3f org = rays[0].org;
     const vint<K> ox(std::bit_cast<int32_t>(org.x)), oy(std::bit_cast<int32_t>(org.y)),
         oz(std::bit_cast<int32_t>(org.z));
     for (auto& p : s.parts) p.clear();
     for (int y0 = 0; y0 < height; y0 += ph)
         for (int x0 = 0; x0 < width; x0 += pw) {
             vf f[8];
-            const uint32_t in = load(x0, y0, f);
+            const uint32_t in = load_square(rays, width, height, x0, y0, f);
             const vb same = (as_int(f[0]) == ox) & (as_int(f[1]) == oy) & (as_int(f[2]) == oz);
             if ((movemask(same) & in) != in) return false;
             const uint32_t sx = signbits(f[3]), sy = signbits(f[4]), sz = signbits(f[5]);
@@ -336,14 +332,11 @@ bool split_by_octant(Scratch& s, int width, int height, const Vec3f& org, Load&&
                 s.parts[o].push_back(Part{x0, y0, lanes});
             }
         }
-    return true;
-}
+    if (tree.nodes.empty()) {
+        for (Hit& h : hits) h = Hit{};
+        return true;
+    }
 
-/// Traces s.parts octant by octant as one packet each; `write(block)` takes each block's
-/// answers.
-template <bool AnyHit, typename Load, typename Write>
-void trace_parts(Scratch& s, const KdTree& tree, std::span<const TriangleVerts> triangles,
-                 int width, const Vec3f& org, Load&& load, Write&& write) {
     const Bbox3f box = padded_bounds(tree.bounds);
     for (uint32_t o = 0; o < 8; ++o) {
         const std::vector<Part>& parts = s.parts[o];
@@ -352,103 +345,36 @@ void trace_parts(Scratch& s, const KdTree& tree, std::span<const TriangleVerts> 
         s.blocks.resize(size_t(n));
         s.bounds.reset(n);
         for (int i = 0; i < n; ++i) {
-            const Part& part = parts[size_t(i)];
             vf f[8];
-            load(part.x0, part.y0, f);
-            init_block(s.blocks[size_t(i)], s.bounds, i, f, part.lanes,
-                       part.y0 * width + part.x0, box);
+            load_square(rays, width, height, parts[size_t(i)].x0, parts[size_t(i)].y0, f);
+            init_block(s.blocks[size_t(i)], s.bounds, i, f, parts[size_t(i)].lanes,
+                       parts[size_t(i)].y0 * width + parts[size_t(i)].x0, box);
         }
-        traverse_group<AnyHit>(tree, triangles, org, o, s.blocks.data(), s.bounds, n);
-        for (const Block& b : s.blocks) write(b);
+        traverse_group(tree, triangles, org, o, s.blocks.data(), s.bounds, n);
+        for (const Block& b : s.blocks) {
+            if (b.in == all_lanes<K>) {
+                // Whole squares: the hits as (t, triangle) pairs, one row of the square at a time.
+                alignas(64) float pairs[2 * K];
+                storeu_pairs(pairs, b.best.t, as_float(b.best.tri));
+                for (int r = 0; r < ph; ++r)
+                    std::memcpy(static_cast<void*>(&hits[size_t(b.sample + r * width)]), pairs + 2 * pw * r,
+                                sizeof(Hit) * pw);
+                continue;
+            }
+            for (uint32_t l = b.in; l; l &= l - 1) {
+                const int lane = std::countr_zero(l);
+                hits[size_t(b.sample + (lane / pw) * width + lane % pw)] =
+                    Hit{b.best.t[lane], uint32_t(b.best.tri[lane])};
+            }
+        }
     }
-}
-
-}  // namespace
-
-bool trace_frustum(const KdTree& tree, std::span<const TriangleVerts> triangles,
-                   std::span<const Ray> rays, int width, int height, std::span<Hit> hits) {
-    if (rays.empty()) return true;
-    thread_local Scratch s;
-    // The grid in packet-shaped squares, so that the K lanes of a block are neighbours.
-    const auto load = [&](int x0, int y0, vf(&f)[8]) {
-        return load_square(rays, width, height, x0, y0, f);
-    };
-    const Vec3f org = rays[0].org;
-    if (!split_by_octant(s, width, height, org, load)) return false;
-    if (tree.nodes.empty()) {
-        for (Hit& h : hits) h = Hit{};
-        return true;
-    }
-    trace_parts<false>(s, tree, triangles, width, org, load, [&](const Block& b) {
-        if (b.in == all_lanes<K>) {
-            // Whole squares: the hits as (t, triangle) pairs, one row of the square at a time.
-            alignas(64) float pairs[2 * K];
-            storeu_pairs(pairs, b.best.t, as_float(b.best.tri));
-            for (int r = 0; r < ph; ++r)
-                std::memcpy(static_cast<void*>(&hits[size_t(b.sample + r * width)]),
-                            pairs + 2 * pw * r, sizeof(Hit) * pw);
-            return;
-        }
-        for (uint32_t l = b.in; l; l &= l - 1) {
-            const int lane = std::countr_zero(l);
-            hits[size_t(b.sample + (lane / pw) * width + lane % pw)] =
-                Hit{b.best.t[lane], uint32_t(b.best.tri[lane])};
-        }
-    });
     return true;
-}
-
-uint64_t occluded_frustum(const KdTree& tree, std::span<const TriangleVerts> triangles,
-                          const SegmentTile& tile, std::span<uint8_t> visible) {
-    for (uint8_t& v : visible) v = 0;
-    if (tile.points.empty()) return 0;
-    thread_local Scratch s;
-    const int width = tile.width, height = tile.height;
-    const Vec3f& light = tile.light;
-    // Each square's segments shadow_ray(light, p), as load_segment_packet builds them (the same
-    // float operations as shadow_ray); lanes outside the grid or inactive take no part.
-    const auto load = [&](int x0, int y0, vf(&f)[8]) {
-        alignas(64) float p[3][K];
-        uint32_t in = 0;
-        for (int l = 0; l < K; ++l) {
-            const int x = x0 + l % pw, y = y0 + l / pw;
-            const bool inside = x < width && y < height;
-            const size_t i = size_t(inside ? y * width + x : y0 * width + x0);
-            in |= uint32_t(inside && tile.active[i]) << l;
-            for (int a = 0; a < 3; ++a) p[a][l] = tile.points[i][a];
-        }
-        for (int a = 0; a < 3; ++a) {
-            f[a] = vf(light[a]);
-            f[3 + a] = vf::load(p[a]) - vf(light[a]);
-        }
-        f[6] = vf(shadow_epsilon);
-        f[7] = vf(1.f - shadow_epsilon);
-        return in;
-    };
-    split_by_octant(s, width, height, light, load);  // one origin by construction
-    uint64_t count = 0;
-    for (const auto& parts : s.parts)
-        for (const Part& part : parts) count += uint64_t(std::popcount(part.lanes));
-    if (tree.nodes.empty()) {
-        for (size_t i = 0; i < visible.size(); ++i) visible[i] = tile.active[i] != 0;
-        return count;
-    }
-    trace_parts<true>(s, tree, triangles, width, light, load, [&](const Block& b) {
-        // Blocked lanes have best t = -inf; lanes with an empty root interval are unblocked.
-        const uint32_t blocked = movemask(b.best.t == vf(neg_inf));
-        for (uint32_t l = b.in & ~blocked; l; l &= l - 1) {
-            const int lane = std::countr_zero(l);
-            visible[size_t(b.sample + (lane / pw) * width + lane % pw)] = 1;
-        }
-    });
-    return count;
 }
 
 namespace {
 
-/// The "frustum" kind: shaft tiles whose rays share an origin, and every tile of shadow
-/// segments (their origin is the light), as one large packet; other tiles through the widest
-/// packets, as RTT's fallback.
+/// The "frustum" kind: shaft tiles whose rays share an origin as one large packet
+/// (trace_frustum); everything else through the widest packets, as RTT's fallback.
 class FrustumTracer final : public Tracer {
 public:
     FrustumTracer(const Scene& scene, const KdTree& tree)
@@ -464,7 +390,7 @@ public:
 
     void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
                   std::span<SampleAnswer> answers) const override {
-        const uint64_t n = occluded_frustum(tree_, triangles_, tile, visible);
+        const uint64_t n = occluded_tile_packets<K>(tree_, triangles_, tile, visible);
         record_traced_tile(n, stats, answers);
     }
 

@@ -18,7 +18,6 @@
 #include "geom/triangle.h"
 #include "rtt/kdtree.h"
 #include "rtt/math.h"
-#include "rtt/tracer.h"
 
 namespace rtt {
 
@@ -27,12 +26,5 @@ namespace rtt {
 /// touching nothing, when some ray's origin differs from rays[0]'s (bit for bit).
 bool trace_frustum(const KdTree& tree, std::span<const TriangleVerts> triangles,
                    std::span<const Ray> rays, int width, int height, std::span<Hit> hits);
-
-/// Visibility of a tile's active segments shadow_ray(tile.light, point), traced from the light
-/// as one packet (any hit: a segment stops at its first blocker): visible[i] = 1 when
-/// unoccluded, 0 when occluded or inactive, visible[i] == !occluded_ray(...) for active i.
-/// Returns the number of active segments.
-uint64_t occluded_frustum(const KdTree& tree, std::span<const TriangleVerts> triangles,
-                          const SegmentTile& tile, std::span<uint8_t> visible);
 
 }  // namespace rtt
