@@ -59,17 +59,19 @@ void check_tile(const Fixture& f, const RayTile& tile, const Vec3f& light, Tally
         const Ray& r = tile.rays[i];
         const Hit want = trace_ray(f.tree, f.triangles, r);
         t.vs_ray += !same_hit(got[i], want);
-        if (i % f.oracle_stride == 0) t.vs_brute += !same_hit(got[i], trace_brute_force(f.triangles, r));
+        if (i % f.oracle_stride == 0)
+            t.vs_brute += !same_hit(got[i], trace_brute_force(f.triangles, r));
         t.hits += want.valid();
         points[i] = r.org + r.dir * want.t;
         tris[i] = want.tri;
         active[i] = want.valid() && i % 7 != 3;
     }
     t.rays += n;
-    f.frustum->occluded(SegmentTile{tile.width, tile.height, light, points, tris, active, tile.shaft},
-                        visible);
+    f.frustum->occluded(
+        SegmentTile{tile.width, tile.height, light, points, tris, active, tile.shaft}, visible);
     for (size_t i = 0; i < n; ++i) {
-        const bool want = active[i] && !occluded_ray(f.tree, f.triangles, shadow_ray(light, points[i]));
+        const bool want =
+            active[i] && !occluded_ray(f.tree, f.triangles, shadow_ray(light, points[i]));
         t.vs_ray += visible[i] != uint8_t(want);
         t.segments += active[i];
     }
@@ -97,11 +99,12 @@ void check_views(const Fixture& f, const Camera& cam, int width, int height, con
 }
 
 void report(const char* what, const Tally& t) {
-    std::printf("%s: %llu rays (%llu hits), %llu segments; frustum mismatches: %llu against "
-                "trace_ray, %llu against brute force\n",
-                what, (unsigned long long)t.rays, (unsigned long long)t.hits,
-                (unsigned long long)t.segments, (unsigned long long)t.vs_ray,
-                (unsigned long long)t.vs_brute);
+    std::printf(
+        "%s: %llu rays (%llu hits), %llu segments; frustum mismatches: %llu against "
+        "trace_ray, %llu against brute force\n",
+        what, (unsigned long long)t.rays, (unsigned long long)t.hits,
+        (unsigned long long)t.segments, (unsigned long long)t.vs_ray,
+        (unsigned long long)t.vs_brute);
     EXPECT_EQ(t.vs_ray, 0u);
     EXPECT_EQ(t.vs_brute, 0u);
 }
@@ -133,8 +136,8 @@ TEST(FrustumTracer, RandomSoupsMatchTraceRay) {
         check_views(f, Camera{{2.5f, 1.5f, 3.f}, {0.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, 50.f}, 32, 32,
                     {3.f, 4.f, -2.f}, t);
         // From inside the soup, looking along -z: rays of every octant.
-        check_camera(f, Camera{{0.1f, 0.2f, 0.3f}, {0.1f, 0.2f, -1.f}, {0.f, 1.f, 0.f}, 120.f},
-                     32, 32, 2, 16, {0.f, 3.f, 0.f}, t);
+        check_camera(f, Camera{{0.1f, 0.2f, 0.3f}, {0.1f, 0.2f, -1.f}, {0.f, 1.f, 0.f}, 120.f}, 32,
+                     32, 2, 16, {0.f, 3.f, 0.f}, t);
         report("soup", t);
         EXPECT_GT(t.hits, t.rays / 4);
     }
@@ -152,11 +155,17 @@ TEST(FrustumTracer, GridsThroughEdgesVerticesAndSplitPlanes) {
         test::add_grid(tris, origin, {12.f, 0.f, 0.f}, {0.f, 12.f, 0.f}, 12, 12);  // duplicate
         const Fixture f(test::scene_of(tris));
         Tally t;
-        check_views(f, Camera{origin + Vec3f{6.f, 6.f, 9.f}, origin + Vec3f{6.f, 6.f, 0.f},
-                              {0.f, 1.f, 0.f}, 70.f},
+        check_views(f,
+                    Camera{origin + Vec3f{6.f, 6.f, 9.f},
+                           origin + Vec3f{6.f, 6.f, 0.f},
+                           {0.f, 1.f, 0.f},
+                           70.f},
                     32, 32, origin + Vec3f{3.f, 7.f, 5.5f}, t);
-        check_views(f, Camera{origin + Vec3f{-4.f, 6.f, 1.f}, origin + Vec3f{6.f, 6.f, 1.f},
-                              {0.f, 0.f, 1.f}, 60.f},
+        check_views(f,
+                    Camera{origin + Vec3f{-4.f, 6.f, 1.f},
+                           origin + Vec3f{6.f, 6.f, 1.f},
+                           {0.f, 0.f, 1.f},
+                           60.f},
                     16, 16, origin + Vec3f{6.f, 3.f, 2.5f}, t);
         report(origin.x == 0.f ? "grid" : "grid far from origin", t);
         EXPECT_GT(t.hits, t.rays / 4);
@@ -169,9 +178,9 @@ TEST(FrustumTracer, ClosedSphereFarFromOriginIsWatertight) {
     test::add_sphere(tris, c, 1.f, 80, 40);
     const Fixture f(test::scene_of(tris));
     Tally t;
-    check_views(f, Camera{c + Vec3f{0.1f, 0.2f, 0.3f}, c + Vec3f{1.f, 0.f, 0.f}, {0.f, 1.f, 0.f},
-                          120.f},
-                32, 32, c + Vec3f{0.f, 0.5f, 0.f}, t);
+    check_views(
+        f, Camera{c + Vec3f{0.1f, 0.2f, 0.3f}, c + Vec3f{1.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, 120.f},
+        32, 32, c + Vec3f{0.f, 0.5f, 0.f}, t);
     EXPECT_EQ(t.hits, t.rays);  // no ray slipped out between triangles
     check_views(f, Camera{c + Vec3f{0.f, 0.f, 2.5f}, c, {0.f, 1.f, 0.f}, 60.f}, 16, 16,
                 c + Vec3f{2.f, 2.f, 2.f}, t);

@@ -13,10 +13,9 @@ namespace rtt {
 /// t_scale = the ray-parameter length of the scene seen from the origin. `box` is
 /// padded_bounds(tree.bounds); inv = 1 / dir per component.
 template <int K>
-RTT_FORCEINLINE void clip_to_root(const Bbox3f& box, const vfloat<K> (&org)[3],
-                                  const Vec3v<K>& dir, const vfloat<K> (&inv)[3],
-                                  vfloat<K> tmin, vfloat<K> tmax, vfloat<K>& t0, vfloat<K>& t1,
-                                  vfloat<K>& t_scale) {
+RTT_FORCEINLINE void clip_to_root(const Bbox3f& box, const vfloat<K> (&org)[3], const Vec3v<K>& dir,
+                                  const vfloat<K> (&inv)[3], vfloat<K> tmin, vfloat<K> tmax,
+                                  vfloat<K>& t0, vfloat<K>& t1, vfloat<K>& t_scale) {
     using vf = vfloat<K>;
     using vb = vbool<K>;
     t0 = tmin;

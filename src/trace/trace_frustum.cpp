@@ -47,7 +47,8 @@ struct BlockBounds {
     void reset(int nblocks) {
         // Padding blocks never pass: ta = +inf > tb = -inf.
         for (int f = 0; f < count; ++f)
-            field[f].assign(size_t((nblocks + K - 1) / K), vf(f == tb || f == max_best ? neg_inf : pos_inf));
+            field[f].assign(size_t((nblocks + K - 1) / K),
+                            vf(f == tb || f == max_best ? neg_inf : pos_inf));
     }
 };
 
@@ -66,7 +67,8 @@ RTT_FORCEINLINE uint32_t load_square(std::span<const Ray> rays, int width, int h
         const int x = x0 + l % pw, y = y0 + l / pw;
         const bool inside = x < width && y < height;
         in |= uint32_t(inside) << l;
-        const float* r = reinterpret_cast<const float*>(&rays[size_t(inside ? y * width + x : y0 * width + x0)]);
+        const float* r =
+            reinterpret_cast<const float*>(&rays[size_t(inside ? y * width + x : y0 * width + x0)]);
         for (int k = 0; k < 8; ++k) lanes[k][l] = r[k];
     }
     for (int k = 0; k < 8; ++k) f[k] = vf::load(lanes[k]);
@@ -83,7 +85,8 @@ void init_block(Block& b, BlockBounds& bounds, int i, const vf (&f)[8], uint32_t
     b.in = in;
     b.valid = movemask(b.t0 <= b.t1) & in;
     b.sample = sample;
-    b.wp = WatertightPacket<K>(Vec3v<K>{org[0], org[1], org[2]}, dir, f[6], f[7], vb::from_bits(in));
+    b.wp =
+        WatertightPacket<K>(Vec3v<K>{org[0], org[1], org[2]}, dir, f[6], f[7], vb::from_bits(in));
     b.best = PacketHit<K>{};
     if (!b.valid) return;  // the padding values never pass
     // inv is +-inf for a zero component, never NaN; t0, t1, t_scale are NaN-free.
@@ -204,9 +207,8 @@ RTT_FORCEINLINE void visit_leaf(const KdNode& leaf, const Entry& e, const Vec3f&
 
 /// Traverses the tree with the blocks of one octant (direction sign bits `neg`, bit a = axis
 /// a), all from `org`. See trace_frustum.h for why every ray gets trace_ray's answer.
-void traverse_group(const KdTree& tree, std::span<const TriangleVerts> triangles,
-                    const Vec3f& org, uint32_t neg, Block* blocks, BlockBounds& bounds,
-                    int nblocks) {
+void traverse_group(const KdTree& tree, std::span<const TriangleVerts> triangles, const Vec3f& org,
+                    uint32_t neg, Block* blocks, BlockBounds& bounds, int nblocks) {
     // The packet's bounds: the blocks' bounds over its valid blocks.
     float inv_lo[3] = {pos_inf, pos_inf, pos_inf}, inv_hi[3] = {neg_inf, neg_inf, neg_inf};
     float t_scale = 0.f, ta = pos_inf, tb = neg_inf;
@@ -227,7 +229,7 @@ void traverse_group(const KdTree& tree, std::span<const TriangleVerts> triangles
 
     Entry stack[kd_max_depth + 1];
     int top = 0;
-    stack[top++] = Entry{tree.nodes.data(), ta, tb, {neg_inf, neg_inf, neg_inf},
+    stack[top++] = Entry{tree.nodes.data(),           ta,    tb,  {neg_inf, neg_inf, neg_inf},
                          {pos_inf, pos_inf, pos_inf}, first, last};
     const KdNode* nodes = tree.nodes.data();
     const float* max_best = bounds[BlockBounds::max_best];
@@ -327,8 +329,8 @@ bool trace_frustum(const KdTree& tree, std::span<const TriangleVerts> triangles,
                                        ~(sy ^ (0u - ((sy >> lane) & 1u))) &
                                        ~(sz ^ (0u - ((sz >> lane) & 1u))) & rest;
                 rest &= ~lanes;
-                const uint32_t o = ((sx >> lane) & 1u) | ((sy >> lane) & 1u) << 1 |
-                                   ((sz >> lane) & 1u) << 2;
+                const uint32_t o =
+                    ((sx >> lane) & 1u) | ((sy >> lane) & 1u) << 1 | ((sz >> lane) & 1u) << 2;
                 s.parts[o].push_back(Part{x0, y0, lanes});
             }
         }
@@ -357,8 +359,8 @@ bool trace_frustum(const KdTree& tree, std::span<const TriangleVerts> triangles,
                 alignas(64) float pairs[2 * K];
                 storeu_pairs(pairs, b.best.t, as_float(b.best.tri));
                 for (int r = 0; r < ph; ++r)
-                    std::memcpy(static_cast<void*>(&hits[size_t(b.sample + r * width)]), pairs + 2 * pw * r,
-                                sizeof(Hit) * pw);
+                    std::memcpy(static_cast<void*>(&hits[size_t(b.sample + r * width)]),
+                                pairs + 2 * pw * r, sizeof(Hit) * pw);
                 continue;
             }
             for (uint32_t l = b.in; l; l &= l - 1) {
@@ -383,7 +385,8 @@ public:
 
     void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
                    std::span<SampleAnswer> answers) const override {
-        if (!tile.shaft || !trace_frustum(tree_, triangles_, tile.rays, tile.width, tile.height, hits))
+        if (!tile.shaft ||
+            !trace_frustum(tree_, triangles_, tile.rays, tile.width, tile.height, hits))
             trace_tile_packets<K>(tree_, triangles_, tile, hits);
         record_traced_tile(tile.rays.size(), stats, answers);
     }
