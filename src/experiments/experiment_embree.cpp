@@ -1,6 +1,6 @@
 // Embree beside our tracers on the very same tiles: primary and shadow throughput of packet,
-// packet16, rtt and every Embree mode (16-wide packets, stream, single rays; HIGH and MEDIUM
-// builds) in one run, three scenes at 1024x768 with K = 1 and 4, on one thread and on all
+// packet16, frustum, rtt and every Embree mode (16-wide packets, stream, single rays; HIGH and
+// MEDIUM builds) in one run, three scenes at 1024x768 with K = 1 and 4, on one thread and on all
 // cores, and rtt's ratio to the fastest Embree mode of each cell; then kd-tree and BVH build
 // times side by side.
 #include <oneapi/tbb/info.h>
@@ -83,10 +83,10 @@ ExperimentResult run_embree(const BenchConfig& config, SceneCache& scenes) {
     if (all > 1) thread_counts.push_back(all);
     ExperimentResult r;
     r.id = "embree";
-    r.title = "Embree 3 beside packet, packet16 and rtt at " + size_label(w1, h1) + " (K=1) and " +
-              size_label(w4, h4) + " (K=4)";
+    r.title = "Embree 3 beside packet, packet16, frustum and rtt at " + size_label(w1, h1) +
+              " (K=1) and " + size_label(w4, h4) + " (K=4)";
     std::fprintf(config.log, "\n== %s\n", r.title.c_str());
-    std::vector<std::string> wanted{"packet", "packet16", "rtt"};
+    std::vector<std::string> wanted{"packet", "packet16", "frustum", "rtt"};
     wanted.insert(wanted.end(), embree_modes.begin(), embree_modes.end());
     const std::vector<std::string> kinds = available(wanted);
     for (const std::string& name : config.scenes) {

@@ -6,8 +6,8 @@
 //   fig8    Figure 8: speed-up against resolution 320x240 .. 2048x1536, K = 1.
 //   hq      Section 4's "2.43 times" point: room at 2048x1536 (the paper: 2048x1560), 6x6.
 //   fig5    Figure 5: office rendered, and its RTT maps for primary and shadow rays.
-//   embree  packet, packet16, rtt and Embree at 1024x768, K = 1 and 4, 1 thread and all cores;
-//           kd-tree and BVH build times.
+//   embree  packet, packet16, frustum, rtt and Embree at 1024x768, K = 1 and 4, 1 thread and
+//           all cores; kd-tree and BVH build times.
 //   build   the kd-tree and BVH build times alone (not part of `all`: `embree` has them).
 //   answers ns per ray rtt answers from a list, primary and shadow, K = 1 and 4, beside the
 //           limit of an answer (not part of `all`).
