@@ -13,6 +13,7 @@
 #include "rtt/error.h"
 #include "trace/factories.h"
 #include "trace/packet_blocks.h"
+#include "trace/trace_frustum.h"
 #include "trace/trace_packet.h"
 
 namespace rtt {
@@ -107,7 +108,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
                                                                     : list_paper(tile, p);
     if (!shaft) p.declined = Decline::no_shaft;
     if (outcome == ListOutcome::untraced) {
-        trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
+        trace_declined(tile, hits);
         count_decline(st, p.declined);
         return;
     }
@@ -147,9 +148,11 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
             st.empty_tiles += uint64_t(list.count == 0);
         }
     } else {
+        // Declined after the corners: the whole tile as one packet again (the corners' answers
+        // are rewritten, unchanged) costs less than the inner rays 16 at a time.
         count_decline(st, p.declined);
-        for (int s = 0; s < n; ++s)
-            if (s != p.cs[0] && s != p.cs[1] && s != p.cs[2] && s != p.cs[3]) need.set(s);
+        trace_declined(tile, hits);
+        return;
     }
     if (need.none(n)) return;
     for_each_ray_block<fallback_width>(
@@ -160,6 +163,11 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
             for (uint32_t b = active; b; b &= b - 1)
                 hits[sample[std::countr_zero(b)]] = out[std::countr_zero(b)];
         });
+}
+
+void RttTracer::trace_declined(const RayTile& tile, std::span<Hit> hits) const {
+    if (!trace_frustum(tree_, triangles_, tile.rays, tile.width, tile.height, hits))
+        trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
 }
 
 uint64_t RttTracer::answer_primary(const RayTile& tile, const Shaft& s, const RelevantList& list,

@@ -125,6 +125,9 @@ private:
     /// list length to `st`.
     void intersect_shaft(const RayTile& tile, std::span<Hit> hits, std::span<SampleAnswer> answers,
                          TraceStats& st) const;
+    /// A shaft tile no list answers: one large packet (trace_frustum.h) when its rays share an
+    /// origin, else the widest packets.
+    void trace_declined(const RayTile& tile, std::span<Hit> hits) const;
     void occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visible,
                         std::span<SampleAnswer> answers, TraceStats& st) const;
     bool one_receiver_plane(const SegmentTile& tile) const;
@@ -169,9 +172,11 @@ private:
     PlaneNormals normals_;
     /// Nodes the shaft walk (walk.h) and the paper's culling of deferred nodes may enter
     /// for a tile of n samples before the tile is traced instead.
-    int walk_budget(int n, bool region) const {
+    int walk_budget(int n, bool region, bool shadow) const {
+        const int divisor =
+            shadow ? options_.shadow_region_budget_divisor : options_.region_budget_divisor;
         return options_.walk_budget_base +
-               (region ? n / options_.region_budget_divisor : options_.walk_budget_per_sample * n);
+               (region ? n / divisor : options_.walk_budget_per_sample * n);
     }
     int deferred_budget(int n) const { return options_.deferred_budget_base + n; }
 
