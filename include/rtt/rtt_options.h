@@ -30,10 +30,12 @@ struct RttOptions {
     int walk_budget_base = 48;
     int walk_budget_per_sample = 1;
     /// Regions of several 4x4-pixel tiles (RayTile::cell, RenderOptions::region) of n samples
-    /// are walked with walk_budget_base + n / region_budget_divisor nodes instead: a region
-    /// whose shaft gives no list is traced whole, so its walk should give up early (at K = 1,
-    /// 48 + 256 / 4 nodes; docs/benchmarks.md, "RTT against Embree"). >= 1.
-    int region_budget_divisor = 4;
+    /// are walked with walk_budget_base + n / region_budget_divisor nodes instead (primary and
+    /// reflected rays; shadow rays with shadow_region_budget_divisor): a region whose shaft gives
+    /// no list is traced whole, so its walk should give up early. At K = 1, 48 + 256 / 16 nodes
+    /// for primary regions (docs/benchmarks.md, "Regions"). >= 1.
+    int region_budget_divisor = 16;
+    int shadow_region_budget_divisor = 4;
     /// The same for the paper's shaft culling of what its corners left out (rtt-paper, and
     /// the lean pass of `extended`): deferred_budget_base + n nodes. >= 1.
     int deferred_budget_base = 8;

@@ -14,8 +14,8 @@ void RttOptions::validate() const {
         throw Error(
             "RttOptions: the walk and deferred budgets must be at least 1 node (per-sample part >= "
             "0)");
-    if (region_budget_divisor < 1)
-        throw Error("RttOptions: region_budget_divisor must be at least 1");
+    if (region_budget_divisor < 1 || shadow_region_budget_divisor < 1)
+        throw Error("RttOptions: the region budget divisors must be at least 1");
     if (lean_max_samples < 0 || lean_max_samples > rtt_max_samples_per_tile)
         throw Error("RttOptions: lean_max_samples must be in 0.." +
                     std::to_string(rtt_max_samples_per_tile));

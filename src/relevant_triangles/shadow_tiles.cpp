@@ -111,7 +111,7 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
                 return trace_all(Decline::no_end);
         status = cull_shaft<Query::any_hit>(
             tree_, triangles_, shaft, region,
-            walk_budget(n, is_region(tile.width, tile.height, tile.cell)), tls_mailbox, res,
+            walk_budget(n, is_region(tile.width, tile.height, tile.cell), true), tls_mailbox, res,
             [](const PacketHit<4>&, ShaftRegion&) { return Narrowed::same; });
         if (status == CornerStatus::untraced) return trace_all(res.declined);
     } else {
