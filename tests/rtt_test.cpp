@@ -681,6 +681,14 @@ TEST(Rtt, DeclinedTilesAddUpWithAnsweredOnes) {
             if (aa == 1) {
                 EXPECT_GT(s.primary.trace.declined(), 0u);
             }
+            // The fallback's time (declined tiles, refused rays) is measured where it runs,
+            // inside the tracer's time.
+            for (const KindStats* k : {&s.primary, &s.shadow}) {
+                if (k->trace.declined() > 0) {
+                    EXPECT_GT(k->trace.fallback_ns, 0u);
+                }
+                EXPECT_LE(k->trace.fallback_seconds(), k->seconds);
+            }
         }
     }
 }

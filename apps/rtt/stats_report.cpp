@@ -27,6 +27,7 @@ nlohmann::json kind_json(const KindStats& k) {
             {"declined", declined},
             {"avg_relevant", t.avg_relevant()},
             {"seconds", k.seconds},
+            {"fallback_seconds", t.fallback_seconds()},
             {"mrays_per_second", k.mrays_per_second()}};
 }
 
@@ -82,6 +83,16 @@ void print_stats(std::FILE* out, const RenderJobResult& r) {
                      (unsigned long long)t.declined_shaft, (unsigned long long)t.declined_end,
                      (unsigned long long)t.declined_budget, (unsigned long long)t.declined_list,
                      (unsigned long long)t.declined_corners);
+    }
+    for (const KindRow& row : rows) {
+        const TraceStats& t = row.stats->trace;
+        if (t.answered == 0 && t.fallback_ns == 0) continue;
+        const double fallback = t.fallback_seconds();
+        std::fprintf(out,
+                     "%s time split: %.3f s in the tiles' answers, corners and walks (%llu rays "
+                     "answered); %.3f s in the fallback (%llu rays traced, corners included)\n",
+                     row.name, row.stats->seconds - fallback, (unsigned long long)t.answered,
+                     fallback, (unsigned long long)t.traced);
     }
     if (s.primary.trace.open_tiles)
         std::fprintf(out,

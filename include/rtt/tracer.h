@@ -74,16 +74,20 @@ struct TraceStats {
     uint64_t declined_budget = 0;   ///< The walk or the deferred nodes' culling ran out of nodes.
     uint64_t declined_list = 0;     ///< The relevant list overflowed.
     uint64_t declined_corners = 0;  ///< The corner packet parted, or all 4 shadow corners blocked.
+    /// Nanoseconds, summed over threads, the RTT tracers spent tracing the rays they did not
+    /// answer (declined tiles and refused rays); the rest of their time went to answered tiles.
+    uint64_t fallback_ns = 0;
 
     /// Every counter above, for code that adds or ships them all (sums, MPI ranks).
-    std::array<uint64_t*, 13> counters() {
+    std::array<uint64_t*, 14> counters() {
         return {&tiles, &rtt_tiles, &rays, &traced, &answered, &relevant_sum, &open_tiles,
                 &empty_tiles, &declined_shaft, &declined_end, &declined_budget, &declined_list,
-                &declined_corners};
+                &declined_corners, &fallback_ns};
     }
-    std::array<uint64_t, 13> counter_values() const {
+    std::array<uint64_t, 14> counter_values() const {
         return {tiles, rtt_tiles, rays, traced, answered, relevant_sum, open_tiles, empty_tiles,
-                declined_shaft, declined_end, declined_budget, declined_list, declined_corners};
+                declined_shaft, declined_end, declined_budget, declined_list, declined_corners,
+                fallback_ns};
     }
     /// Sum of the declined_* counters.
     uint64_t declined() const {
@@ -92,6 +96,7 @@ struct TraceStats {
 
 
     TraceStats& operator+=(const TraceStats& o);
+    double fallback_seconds() const { return double(fallback_ns) * 1e-9; }
     double avg_relevant() const { return rtt_tiles ? double(relevant_sum) / double(rtt_tiles) : 0.0; }
 };
 

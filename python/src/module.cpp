@@ -63,7 +63,8 @@ py::dict stats_dict(const CallStats& s) {
     for (const auto& [name, field] : declined_fields) declined[name] = t.*field;
     return py::dict("rays"_a = t.rays, "traced"_a = t.traced, "answered"_a = t.answered,
                     "tiles"_a = t.tiles, "rtt_tiles"_a = t.rtt_tiles, "declined"_a = declined,
-                    "avg_list"_a = t.avg_relevant(), "seconds"_a = s.seconds);
+                    "avg_list"_a = t.avg_relevant(), "seconds"_a = s.seconds,
+                    "fallback_seconds"_a = t.fallback_seconds());
 }
 
 /// (t, tri) arrays of the given shape from hits: t = inf and tri = -1 on a miss.

@@ -201,6 +201,7 @@ def test_camera_hits_and_visible_match_cli_buffers(tmp_path, rtt_cli, aa):
     # every region is answered from a list or declined for one reason
     assert stats["tiles"] == stats["rtt_tiles"] + sum(stats["declined"].values())
     assert set(stats["declined"]) == {"no_shaft", "no_end", "budget", "list_full", "corners_parted"}
+    assert 0 <= stats["fallback_seconds"] <= stats["seconds"]
     if aa > 1:
         assert stats["rtt_tiles"] > 0 and stats["answered"] > 0
     _, tri_again, how = tracer.camera_hits(CAMERA, w, h, aa=aa, answers=True)

@@ -106,6 +106,7 @@ nlohmann::json kind_json(const KindResult& k) {
               {"answered", s.answered},
               {"relevant_sum", s.relevant_sum},
               {"avg_relevant", s.avg_relevant()},
+              {"fallback_seconds", s.fallback_seconds()},
               {"declined", declined}}}};
 }
 
@@ -125,6 +126,8 @@ KindResult kind_from_json(const nlohmann::json& j) {
                                {&t.rays, "rays"}, {&t.traced, "traced"}, {&t.answered, "answered"},
                                {&t.relevant_sum, "relevant_sum"}})
         *field = s.at(name).get<uint64_t>();
+    if (s.contains("fallback_seconds"))
+        t.fallback_ns = uint64_t(s.at("fallback_seconds").get<double>() * 1e9 + 0.5);
     if (s.contains("declined")) {  // files written before the counters existed lack them
         const nlohmann::json& d = s.at("declined");
         for (const auto& [name, field] : declined_fields) t.*field = d.at(name).get<uint64_t>();

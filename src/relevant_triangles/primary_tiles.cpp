@@ -27,6 +27,7 @@ void RttTracer::intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* 
     TraceStats st;
     for (SampleAnswer& a : answers) a = SampleAnswer::traced;
     if (!shaft_tile(tile.shaft, tile.width, tile.height, tile.rays.size())) {
+        const FallbackClock clock(st.fallback_ns);
         trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
         count_decline(st, Decline::no_shaft);
     } else {
@@ -108,6 +109,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
                                                                     : list_paper(tile, p);
     if (!shaft) p.declined = Decline::no_shaft;
     if (outcome == ListOutcome::untraced) {
+        const FallbackClock clock(st.fallback_ns);
         trace_declined(tile, hits);
         count_decline(st, p.declined);
         return;
@@ -151,10 +153,12 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         // Declined after the corners: the whole tile as one packet again (the corners' answers
         // are rewritten, unchanged) costs less than the inner rays 16 at a time.
         count_decline(st, p.declined);
+        const FallbackClock clock(st.fallback_ns);
         trace_declined(tile, hits);
         return;
     }
     if (need.none(n)) return;
+    const FallbackClock clock(st.fallback_ns);
     for_each_ray_block<fallback_width>(
         tile, [&](int s) { return need.test(s); },
         [&](const RayPacket<fallback_width>& packet, uint32_t active, const int* sample) {

@@ -24,6 +24,7 @@
 // This header: the tracer's class and shared constants (internal to this folder).
 #pragma once
 
+#include <chrono>
 #include <optional>
 #include <span>
 #include <string_view>
@@ -38,6 +39,24 @@
 #include "simd/simd.h"
 
 namespace rtt::rtt_detail {
+
+/// Adds its lifetime in nanoseconds to `ns`: wraps each call of the fallback
+/// (TraceStats::fallback_ns). Two clock reads per declined tile, of 256 rays or more.
+class FallbackClock {
+public:
+    explicit FallbackClock(uint64_t& ns) : ns_(ns), start_(std::chrono::steady_clock::now()) {}
+    ~FallbackClock() {
+        ns_ += uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                            std::chrono::steady_clock::now() - start_)
+                            .count());
+    }
+    FallbackClock(const FallbackClock&) = delete;
+    FallbackClock& operator=(const FallbackClock&) = delete;
+
+private:
+    uint64_t& ns_;
+    std::chrono::steady_clock::time_point start_;
+};
 
 /// Inner rays go K at a time: 16 with AVX-512, 8 with AVX2, else 4.
 inline constexpr int inner_width = simd_max_width;

@@ -50,6 +50,7 @@ void RttTracer::occluded(const SegmentTile& tile, std::span<uint8_t> visible, Tr
     for (uint8_t& v : visible) v = 0;
     if (active_count == 0) {
     } else if (!shaft_tile(tile.shaft, tile.width, tile.height, tile.points.size())) {
+        const FallbackClock clock(st.fallback_ns);
         occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
         count_decline(st, Decline::no_shaft);
     } else {
@@ -86,6 +87,7 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
     // receiver_tol of the plane (checked per point: n.w + H >= -receiver_tol) has
     // n . (x - L) = t n.w >= -tmax (H + receiver_tol).
     const auto trace_all = [&](Decline why) {
+        const FallbackClock clock(st.fallback_ns);
         occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
         count_decline(st, why);
     };
@@ -142,6 +144,7 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
             if (tile.active[i] && i != cs[0] && i != cs[1] && i != cs[2] && i != cs[3]) need.set(i);
     }
     if (need.none(n)) return;
+    const FallbackClock clock(st.fallback_ns);
     for_each_segment_block<fallback_width>(
         tile, [&](int s) { return need.test(s); },
         [&](const RayPacket<fallback_width>& packet, uint32_t active, const int* sample) {
