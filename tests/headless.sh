@@ -1,30 +1,36 @@
 #!/usr/bin/env bash
-# Runs a command under its own headless X server (xvfb-run -a), one such command at a time, for
-# tests/view_test.cpp. Usage: headless.sh COMMAND [ARGS...]; exits with the command's code.
+# Runs a command under a headless X server of its own, for tests/view_test.cpp.
+# Usage: headless.sh COMMAND [ARGS...]; exits with the command's code.
 #
-# Two xvfb-run started together (ctest -j2) sometimes leave a client unable to open its
-# display, hence the lock. And xvfb-run kills its Xvfb without waiting for it to exit: the next
-# xvfb-run may then pick the display number that server is still giving up, and its client fails
-# with "Failed to open display". So the lock is held until that Xvfb is gone.
+# Xvfb -displayfd picks a free display number itself and writes it only once it accepts
+# clients: two of these never race for a number, and the command never starts before its
+# server is up. (xvfb-run -a guessed a number from the lock files in /tmp, waited for a signal
+# and set up an xauth cookie; under ctest -j2 on fresh machines a client sometimes got
+# "Failed to open display :99".) -ac: no access control, so no cookie to get wrong.
 set -u
-xvfb_count() {
-  local n=0 comm
-  for comm in /proc/[0-9]*/comm; do
-    [ "$(cat "$comm" 2>/dev/null)" = Xvfb ] && n=$((n + 1))
-  done
-  echo "$n"
+work=$(mktemp -d)
+Xvfb -displayfd 3 -screen 0 640x480x24 -nolisten tcp -ac 3>"$work/display" 2>"$work/errors" &
+server=$!
+stop_server() {
+  kill "$server" 2>/dev/null
+  wait "$server" 2>/dev/null
+  rm -rf "$work"
 }
-exec 9>/tmp/rtt-view-tests.lock
-flock 9
-before=$(xvfb_count)
-errors=$(mktemp)
-xvfb-run -a -e "$errors" -s '-screen 0 640x480x24' "$@"
-rc=$?
-# When the command failed, what the X server said (a failed start, a display in use).
-[ "$rc" -eq 0 ] || { echo "headless.sh: Xvfb's messages:"; cat "$errors"; } >&2
-rm -f "$errors"
-for _ in $(seq 100); do  # up to 5 s
-  [ "$(xvfb_count)" -le "$before" ] && break
+display=""
+for _ in $(seq 600); do  # up to 30 s: a sanitizer build under load starts slowly
+  display=$(tr -dc 0-9 <"$work/display")
+  [ -n "$display" ] && break
+  kill -0 "$server" 2>/dev/null || break
   sleep 0.05
 done
+if [ -z "$display" ]; then
+  echo "headless.sh: Xvfb did not start:" >&2
+  cat "$work/errors" >&2
+  stop_server
+  exit 1
+fi
+DISPLAY=":$display" "$@"
+rc=$?
+[ "$rc" -eq 0 ] || { echo "headless.sh: Xvfb's messages:"; cat "$work/errors"; } >&2
+stop_server
 exit "$rc"

@@ -136,15 +136,16 @@ TEST(ViewFrames, MovingFramesUseOneSampleAndShadowsOffTracesNoSegments) {
 
 #ifdef RTT_TEST_HAVE_VIEWER
 /// The headless window runs need Xvfb (Debian's xvfb, installed by scripts/install-deps.sh).
-bool have_xvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 0; }
+bool have_xvfb() { return std::system("command -v Xvfb >/dev/null 2>&1") == 0; }
 // Mesa's GL driver is loaded and unloaded by GLFW and leaves a few allocations LeakSanitizer
 // cannot name (frames in an unloaded module): the sanitizer build checks leaks everywhere else.
-// One headless X server at a time, each gone before the next starts (tests/headless.sh).
+// Each window run gets an X server of its own, on a display the server picked and announced
+// when ready, stopped after the run (tests/headless.sh).
 const std::string xvfb = "env ASAN_OPTIONS=detect_leaks=0 bash '" +
                          std::string(RTT_TEST_DATA_DIR) + "/../headless.sh' ";
 
 TEST(ViewWindow, ScreenshotEqualsRenderOfTheSameCamera) {
-    if (!have_xvfb()) GTEST_SKIP() << "xvfb-run not installed";
+    if (!have_xvfb()) GTEST_SKIP() << "Xvfb not installed";
     TempDir dir("view_window");
     const std::string camera = "--camera 2.5,1.2,3.1,0,0.8,0,0,1,0,55";
     for (const char* options : {"--aa 1", "--aa 2 --tracer packet16", "--aa 1 --no-shadows"}) {
@@ -167,7 +168,7 @@ TEST(ViewWindow, ScreenshotEqualsRenderOfTheSameCamera) {
 
 TEST(ViewWindow, KeysAndMouseMoveTheCamera) {
     if (!have_xvfb() || std::system("command -v xdotool >/dev/null 2>&1") != 0)
-        GTEST_SKIP() << "xvfb-run or xdotool not installed";
+        GTEST_SKIP() << "Xvfb or xdotool not installed";
     TempDir dir("view_input");
     const std::string out = dir.file("out.txt");
     const std::string start_camera = "2,1.5,3,0,0.2,0,0,1,0,50";
