@@ -144,6 +144,44 @@ TEST(Cli, InfoAndScenes) {
         EXPECT_NE(scenes.out.find(name), std::string::npos);
 }
 
+/// `rtt render FILE` is `rtt render --scene FILE`: the same hit buffer; with --mesh or --scene
+/// as well it is an error.
+TEST(Cli, PositionalInputIsTheScene) {
+    const TempDir dir("positional");
+    const std::string quoted = "'" + mesh_path + "'";
+    const RunResult a = run_cli(dir, "render " + quoted + " --size 40x30 -q --hits '" +
+                                         dir.file("a.rtth") + "'");
+    ASSERT_EQ(a.exit_code, 0) << a.err;
+    const RunResult b = run_cli(dir, "render --scene " + quoted + " --size 40x30 -q --hits '" +
+                                         dir.file("b.rtth") + "'");
+    ASSERT_EQ(b.exit_code, 0) << b.err;
+    EXPECT_EQ(read_text(dir.file("a.rtth")), read_text(dir.file("b.rtth")));
+    // A coloured glTF given alone renders with its own camera and red material.
+    const RunResult gl = run_cli(dir, "render '" + std::string(RTT_TEST_DATA_DIR) +
+                                          "/scene_io/camera_light.glb' --size 40x30 -q -o '" +
+                                          dir.file("gl.ppm") + "'");
+    ASSERT_EQ(gl.exit_code, 0) << gl.err;
+    const std::string ppm = read_text(dir.file("gl.ppm"));
+    ASSERT_EQ(ppm.rfind("P6", 0), 0u);
+    const size_t pixels = ppm.size() - 3 * 40 * 30;  // the header ends where the pixels start
+    int red = 0;
+    for (size_t i = pixels; i + 2 < ppm.size(); i += 3)
+        red += uint8_t(ppm[i]) > 2 * uint8_t(ppm[i + 1]) + 16 &&
+               uint8_t(ppm[i]) > 2 * uint8_t(ppm[i + 2]) + 16;
+    EXPECT_GT(red, 40 * 30 / 20);  // the two quads cover about a tenth of the image
+    const RunResult info = run_cli(dir, "info room");
+    ASSERT_EQ(info.exit_code, 0) << info.err;
+    EXPECT_NE(info.out.find("room"), std::string::npos);
+    const std::vector<std::string> both_given = {"render --mesh " + quoted + " room",
+                                                 "render --scene office room"};
+    for (const std::string& both : both_given) {
+        const RunResult r = run_cli(dir, both + " -q -o '" + dir.file("c.png") + "'");
+        EXPECT_NE(r.exit_code, 0) << both;
+        EXPECT_NE(r.err.find("exactly one scene"), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(dir.file("c.png"))) << both;
+    }
+}
+
 /// --save-tree then --load-tree: the same tree statistics and the same hits; a tree file for
 /// another mesh, or a damaged one, is refused with one line and nothing written.
 TEST(Cli, SavedTreeLoadsBack) {

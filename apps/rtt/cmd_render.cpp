@@ -105,8 +105,7 @@ bool has_no_output(const RenderJob& j) {
 }
 
 std::string default_image_path(const SceneArgs& scene) {
-    const std::string source = scene.mesh.empty() ? scene.scene : scene.mesh;
-    const std::string stem = std::filesystem::path(source).stem().string();
+    const std::string stem = std::filesystem::path(scene.source()).stem().string();
     return (stem.empty() ? std::string("render") : stem) + ".png";
 }
 

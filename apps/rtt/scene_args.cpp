@@ -19,9 +19,18 @@ void add_scene_options(CLI::App& command, SceneArgs& args) {
         command.add_option("--mesh", args.mesh,
                            "Mesh file in any format assimp reads (OBJ, PLY, OFF, STL, glTF, ...); "
                            "rendered with a grey material");
-    auto* scene = command.add_option("--scene", args.scene,
-                                     "Built-in scene name (see `rtt scenes`) or a JSON scene file");
+    auto* scene = command.add_option(
+        "--scene", args.scene,
+        "Built-in scene name (see `rtt scenes`), JSON scene file, or a mesh file with its own "
+        "materials, lights and cameras");
     mesh->excludes(scene);
+    // `rtt render bunny.obj`, as other renderers take their input: the file's own materials,
+    // lights and camera are kept, as with --scene. Not declared exclusive of the two options:
+    // after a mistyped option (`--sise 8x8`) its value lands here, and CLI11 would then report
+    // the exclusion instead of the typo; load_scene refuses two scenes instead.
+    command.add_option(
+        "input", args.input,
+        "The same as --scene: a built-in scene name or a scene file (JSON or any mesh format)");
 }
 
 void print_warnings(const Scene& scene) {
@@ -39,8 +48,11 @@ LoadedScene load_scene(const SceneArgs& args) {
 }
 
 LoadedScene load_scene_quietly(const SceneArgs& args) {
-    if (args.mesh.empty() == args.scene.empty())
-        throw Error("give exactly one of --mesh FILE or --scene NAME|FILE.json");
+    const int given = int(!args.mesh.empty()) + int(!args.scene.empty()) + int(!args.input.empty());
+    if (given != 1)
+        throw Error("give exactly one scene: --mesh FILE, --scene NAME|FILE or the file or name "
+                    "alone");
+    if (!args.input.empty()) return load_scene_quietly(SceneArgs{.scene = args.input});
     LoadedScene out;
     if (!args.mesh.empty()) {
         out.scene = load_mesh_file(args.mesh);

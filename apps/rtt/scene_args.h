@@ -1,4 +1,5 @@
-// Choosing and loading the scene of a subcommand: --mesh FILE or --scene NAME|FILE.json.
+// Choosing and loading the scene of a subcommand: --mesh FILE, or --scene NAME|FILE (also given
+// as the one positional argument).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -13,10 +14,17 @@ namespace rtt::cli {
 
 struct SceneArgs {
     std::string mesh;   ///< --mesh FILE
-    std::string scene;  ///< --scene NAME | FILE.json
+    std::string scene;  ///< --scene NAME | FILE
+    std::string input;  ///< The positional argument, meaning --scene.
+
+    /// What names the scene (whichever is given), for file names and messages.
+    const std::string& source() const {
+        return !mesh.empty() ? mesh : !scene.empty() ? scene : input;
+    }
 };
 
-/// Adds --mesh and --scene (mutually exclusive) to a subcommand.
+/// Adds --mesh, --scene (mutually exclusive) and a positional argument meaning --scene to a
+/// subcommand.
 void add_scene_options(CLI::App& command, SceneArgs& args);
 
 struct LoadedScene {
@@ -28,7 +36,8 @@ struct LoadedScene {
 /// Loads what the arguments name. A --mesh keeps only the geometry: every triangle gets the
 /// default grey material, and the file's lights and cameras are dropped. A --scene is a
 /// built-in scene's name or a scene file (JSON, or any mesh format assimp reads). Throws
-/// rtt::Error when neither or both are given, the scene is unknown or the file is bad.
+/// rtt::Error unless exactly one of the three is given, or when the scene is unknown or the
+/// file is bad.
 /// The importer's warnings (skipped or repaired input, Scene::warnings) go to stderr, at most
 /// a few lines.
 LoadedScene load_scene(const SceneArgs& args);
