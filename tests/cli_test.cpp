@@ -156,19 +156,27 @@ TEST(Cli, PositionalInputIsTheScene) {
                                          dir.file("b.rtth") + "'");
     ASSERT_EQ(b.exit_code, 0) << b.err;
     EXPECT_EQ(read_text(dir.file("a.rtth")), read_text(dir.file("b.rtth")));
-    // A coloured glTF given alone renders with its own camera and red material.
-    const RunResult gl = run_cli(dir, "render '" + std::string(RTT_TEST_DATA_DIR) +
-                                          "/scene_io/camera_light.glb' --size 40x30 -q -o '" +
-                                          dir.file("gl.ppm") + "'");
-    ASSERT_EQ(gl.exit_code, 0) << gl.err;
-    const std::string ppm = read_text(dir.file("gl.ppm"));
-    ASSERT_EQ(ppm.rfind("P6", 0), 0u);
-    const size_t pixels = ppm.size() - 3 * 40 * 30;  // the header ends where the pixels start
-    int red = 0;
-    for (size_t i = pixels; i + 2 < ppm.size(); i += 3)
-        red += uint8_t(ppm[i]) > 2 * uint8_t(ppm[i + 1]) + 16 &&
-               uint8_t(ppm[i]) > 2 * uint8_t(ppm[i + 2]) + 16;
-    EXPECT_GT(red, 40 * 30 / 20);  // the two quads cover about a tenth of the image
+    // A coloured glTF given alone renders with its own camera and red material; with --mesh,
+    // from the default camera, in red too.
+    const std::string glb = "'" + std::string(RTT_TEST_DATA_DIR) + "/scene_io/camera_light.glb'";
+    const auto red_pixels = [&](const std::string& args) {
+        std::string command = "render ";
+        command += args;
+        command += " --size 40x30 -q -o '" + dir.file("gl.ppm") + "'";
+        const RunResult r = run_cli(dir, command);
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        const std::string ppm = read_text(dir.file("gl.ppm"));
+        EXPECT_EQ(ppm.rfind("P6", 0), 0u);
+        int red = 0;
+        // The header ends where the 40 x 30 RGB pixels start.
+        for (size_t i = ppm.size() - std::min(ppm.size(), size_t(3 * 40 * 30)); i + 2 < ppm.size();
+             i += 3)
+            red += uint8_t(ppm[i]) > 2 * uint8_t(ppm[i + 1]) + 16 &&
+                   uint8_t(ppm[i]) > 2 * uint8_t(ppm[i + 2]) + 16;
+        return red;
+    };
+    EXPECT_GT(red_pixels(glb), 40 * 30 / 20);  // the two quads cover about a tenth of it
+    EXPECT_GT(red_pixels("--mesh " + glb), 40 * 30 / 20);
     const RunResult info = run_cli(dir, "info room");
     ASSERT_EQ(info.exit_code, 0) << info.err;
     EXPECT_NE(info.out.find("room"), std::string::npos);

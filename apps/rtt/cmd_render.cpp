@@ -305,8 +305,9 @@ void add_render_command(CLI::App& app) {
         "render", "Render a mesh or scene (PNG, hit/shadow buffers, statistics)");
     cmd->footer(
         "Rays, sample order and buffer layouts follow CONVENTIONS (see README, \"Command line\").\n"
-        "--mesh renders geometry only, with a grey material; without --camera the camera looks at\n"
-        "the bounding box from a diagonal, and without --light one omni light sits at the camera.\n"
+        "--mesh renders the file's geometry and materials (grey where it has none), not its\n"
+        "cameras or lights: without --camera the camera looks at the bounding box from a diagonal,\n"
+        "and without --light one omni light sits at the camera. `rtt render FILE` keeps them.\n"
         "Each --light x,y,z is a white omni light of intensity 0.5 * d^2 / n (d = scene "
         "bounding-box\n"
         "diagonal, n = number of --light options), so images are neither black nor blown out\n"

@@ -17,8 +17,8 @@ namespace rtt::cli {
 void add_scene_options(CLI::App& command, SceneArgs& args) {
     auto* mesh =
         command.add_option("--mesh", args.mesh,
-                           "Mesh file in any format assimp reads (OBJ, PLY, OFF, STL, glTF, ...); "
-                           "rendered with a grey material");
+                           "Mesh file in any format assimp reads (OBJ, PLY, OFF, STL, glTF, ...), with "
+                           "its materials; the default camera and light");
     auto* scene = command.add_option(
         "--scene", args.scene,
         "Built-in scene name (see `rtt scenes`), JSON scene file, or a mesh file with its own "
@@ -58,9 +58,10 @@ LoadedScene load_scene_quietly(const SceneArgs& args) {
         out.scene = load_mesh_file(args.mesh);
         out.from_mesh = true;
         out.label = args.mesh;
-        // Geometry only: CONVENTIONS' --mesh needs no materials, lights or camera.
-        out.scene.materials.assign(1, Material{});
-        out.scene.triangle_material.assign(out.scene.triangles.size(), 0u);
+        // The file's materials and colours stay (a file without any has the default grey);
+        // its lights and camera do not: --mesh frames the geometry with the default camera and
+        // a light at the eye (CONVENTIONS), which hit and shadow buffers of outside checks
+        // rely on. `rtt render FILE` (--scene FILE) keeps them too.
         out.scene.lights.clear();
         out.scene.camera.reset();
         return out;

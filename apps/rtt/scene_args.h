@@ -33,8 +33,8 @@ struct LoadedScene {
     std::string label;       ///< Scene name or file, for messages and statistics.
 };
 
-/// Loads what the arguments name. A --mesh keeps only the geometry: every triangle gets the
-/// default grey material, and the file's lights and cameras are dropped. A --scene is a
+/// Loads what the arguments name. A --mesh keeps the geometry and the file's materials (grey
+/// where it has none); its lights and cameras are dropped. A --scene is a
 /// built-in scene's name or a scene file (JSON, or any mesh format assimp reads). Throws
 /// rtt::Error unless exactly one of the three is given, or when the scene is unknown or the
 /// file is bad.
