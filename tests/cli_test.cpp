@@ -144,6 +144,38 @@ TEST(Cli, InfoAndScenes) {
         EXPECT_NE(scenes.out.find(name), std::string::npos);
 }
 
+/// A file read with repairs renders with a warning; under --strict it is refused with one line
+/// naming the repair, and nothing is written.
+TEST(Cli, StrictRefusesRepairedFiles) {
+    const TempDir dir("strict");
+    {
+        std::ofstream out(dir.file("created.obj"));
+        out << "mtllib created.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl\nf 1 2 3\n";
+        std::ofstream mtl(dir.file("created.mtl"));
+        mtl << "newmtl\nKd 1 0 0\n";
+    }
+    const std::string obj = "'" + dir.file("created.obj") + "'";
+    const RunResult ok = run_cli(dir, "render --mesh " + obj + " --size 8x8 -q -o '" +
+                                          dir.file("a.png") + "'");
+    EXPECT_EQ(ok.exit_code, 0) << ok.err;
+    EXPECT_NE(ok.err.find("warning: "), std::string::npos) << ok.err;
+    for (const std::string& how : {"--mesh " + obj, obj}) {
+        std::string command = "render ";
+        command += how;
+        command += " --strict --size 8x8 -q -o '" + dir.file("b.png") + "'";
+        const RunResult r = run_cli(dir, command);
+        EXPECT_EQ(r.exit_code, 1) << how;
+        EXPECT_NE(r.err.find("created.mtl:1: newmtl without a name"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("(refused under --strict)"), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(dir.file("b.png")));
+    }
+    // A file without repairs is not affected.
+    EXPECT_EQ(run_cli(dir, "render --mesh '" + mesh_path + "' --strict --size 8x8 -q -o '" +
+                               dir.file("c.png") + "'")
+                  .exit_code,
+              0);
+}
+
 /// `rtt render FILE` is `rtt render --scene FILE`: the same hit buffer; with --mesh or --scene
 /// as well it is an error.
 TEST(Cli, PositionalInputIsTheScene) {

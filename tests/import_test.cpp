@@ -354,9 +354,9 @@ TEST(Import, ObjErrorsCarryLineNumbers) {
     expect_mesh_error(temp_file("rel.obj", "v 0 0 0\nf -1 -2 -3\n"),
                       "rel.obj:2: relative index -2");
     expect_mesh_error(temp_file("nan.obj", "v 1 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"),
-                      "nan.obj:2: vertex has a NaN or infinite coordinate");
+                      "no triangles (all 1 lie on NaN or infinite vertices)");
     expect_mesh_error(temp_file("inf.obj", "v inf 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
-                      "inf.obj:1: vertex has a NaN");
+                      "no triangles (all 1 lie on NaN or infinite vertices)");
     expect_mesh_error(temp_file("big.obj", "v 1e39 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
                       "big.obj:1: number out of float range");
     expect_mesh_error(temp_file("text.obj", "v 1 zero 0\n"),
@@ -381,6 +381,42 @@ TEST(Import, ObjErrorsCarryLineNumbers) {
     const std::string obj =
         temp_file("badmtl.obj", "mtllib bad.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     expect_error([&] { load_mesh_file(obj); }, mtl, "bad.mtl:2: expected a number, got 'x'");
+}
+
+// The reading policy (docs/robustness.md): what other viewers open is repaired with a
+// warning, and the rest of the file read as it is.
+TEST(Import, RepairsWarnAndKeepTheRest) {
+    const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    // A PLY header line that is no keyword (exporters write "Created by ...").
+    std::string ply = binary_ply(fixture_vertices, fixture_faces);
+    ply.insert(ply.find("element"), "Created by a tool\n");
+    const Scene p = load_mesh_file(temp_file("created.ply", ply));
+    EXPECT_EQ(count_mismatches(p, polygon_fixture_triangles()), 0);
+    ASSERT_EQ(p.warning_count, 1u);
+    EXPECT_NE(p.warnings[0].find("created.ply:3: unknown PLY header line 'Created'"),
+              std::string::npos);
+    // An unnamed material, picked by an unnamed usemtl.
+    temp_file("unnamed.mtl", "newmtl\nKd 1 0 0\n");
+    const Scene o = load_mesh_file(temp_file("unnamed.obj", "mtllib unnamed.mtl\n" + tri +
+                                                                  "usemtl\nf 1 2 3\n"));
+    ASSERT_EQ(o.warning_count, 1u);
+    EXPECT_NE(o.warnings[0].find("unnamed.mtl:1: newmtl without a name"), std::string::npos);
+    EXPECT_EQ(o.materials[o.triangle_material[0]].diffuse, Vec3f(1, 0, 0));
+    // An empty STL solid beside a full one.
+    const Scene e = load_mesh_file(temp_file(
+        "empty_solid.stl", "solid full\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 "
+                           "0\nvertex 0 1 0\nendloop\nendfacet\nendsolid full\nsolid empty\n"
+                           "endsolid empty\n"));
+    EXPECT_EQ(e.triangles.size(), 1u);
+    ASSERT_EQ(e.warning_count, 1u);
+    EXPECT_NE(e.warnings[0].find("no vertices, skipped"), std::string::npos) << e.warnings[0];
+    // A NaN vertex: the triangles on it go, the others keep their order.
+    const Scene n = load_mesh_file(
+        temp_file("nan_one.obj", tri + "v nan 0 0\nf 1 2 3\nf 1 2 4\nf 3 2 1\n"));
+    ASSERT_EQ(n.triangles.size(), 2u);
+    EXPECT_EQ(n.triangles[1], (TriangleIndices{2, 1, 0}));
+    EXPECT_EQ(n.bounds().hi, Vec3f(1, 1, 0));  // the NaN vertex is no longer anywhere
+    ASSERT_EQ(n.warning_count, 1u);
 }
 
 TEST(Import, MalformedPlyOffStlGiveErrors) {
@@ -421,8 +457,16 @@ TEST(Import, MalformedPlyOffStlGiveErrors) {
                       "face 1 uses vertex 60 but the mesh has 7 vertices");
     std::string nan_vertex = ascii;
     nan_vertex.replace(nan_vertex.find("3 0.5 0"), 7, "nan 0.5 0");
-    expect_mesh_error(temp_file("nan.ply", nan_vertex),
-                      "vertex 5 has a NaN or infinite coordinate");
+    {
+        // Repaired (docs/robustness.md, "Reading policy"): the one triangle on vertex 5 goes.
+        const Scene s = load_mesh_file(temp_file("nan.ply", nan_vertex));
+        EXPECT_EQ(s.triangles.size(), polygon_fixture_triangles().size() - 1);
+        ASSERT_EQ(s.warning_count, 1u);
+        EXPECT_NE(s.warnings[0].find("1 vertices with a NaN or infinite coordinate; the 1 "
+                                     "triangles on them dropped"),
+                  std::string::npos)
+            << s.warnings[0];
+    }
     expect_mesh_error(temp_file("negative.ply", binary_ply(fixture_vertices, {{0, 1, -5}})),
                       "uses vertex 4294967291");
 
@@ -439,7 +483,7 @@ TEST(Import, MalformedPlyOffStlGiveErrors) {
     expect_mesh_error(temp_file("huger.off", "OFF\n5000000000 1 0\n0 0 0\n"),
                       "huger.off:2: vertex or face count out of range");
     expect_mesh_error(temp_file("nan.off", "OFF\n3 1 0\n0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n"),
-                      "nan.off:4: vertex has a NaN");
+                      "no triangles (all 1 lie on NaN or infinite vertices)");
     expect_mesh_error(temp_file("binary.off", "OFF BINARY\n"), "");
     expect_mesh_error(temp_file("lines.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n"),
                       "no triangles");
@@ -447,7 +491,7 @@ TEST(Import, MalformedPlyOffStlGiveErrors) {
     expect_mesh_error(temp_file("nan.stl",
                                 "solid s\nfacet normal 0 0 1\nouter loop\nvertex nan 0 0\nvertex 1 "
                                 "0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid s\n"),
-                      "has a NaN or infinite coordinate");
+                      "no triangles (all 1 lie on NaN or infinite vertices)");
     std::string stl(80, '\0');
     const uint32_t many = 1000000;
     stl.append(reinterpret_cast<const char*>(&many), 4).append(50, '\0');

@@ -31,6 +31,9 @@ void add_scene_options(CLI::App& command, SceneArgs& args) {
     command.add_option(
         "input", args.input,
         "The same as --scene: a built-in scene name or a scene file (JSON or any mesh format)");
+    command.add_flag("--strict", args.strict,
+                     "Refuse a file that needed repairs (unknown header lines, unnamed materials, "
+                     "empty parts, triangles dropped; docs/robustness.md, \"Reading policy\")");
 }
 
 void print_warnings(const Scene& scene) {
@@ -47,12 +50,28 @@ LoadedScene load_scene(const SceneArgs& args) {
     return out;
 }
 
+namespace {
+
+/// --strict: a file read with repairs is refused, naming the first repair and the count.
+void refuse_repairs_if_strict(const SceneArgs& args, const LoadedScene& loaded) {
+    const Scene& s = loaded.scene;
+    if (!args.strict || s.warning_count == 0) return;
+    // The warnings name the file.
+    throw Error(s.warnings.front() + " (refused under --strict" +
+                (s.warning_count > 1 ? "; " + std::to_string(s.warning_count - 1) + " more repairs"
+                                     : std::string()) +
+                ")");
+}
+
+}  // namespace
+
 LoadedScene load_scene_quietly(const SceneArgs& args) {
     const int given = int(!args.mesh.empty()) + int(!args.scene.empty()) + int(!args.input.empty());
     if (given != 1)
         throw Error("give exactly one scene: --mesh FILE, --scene NAME|FILE or the file or name "
                     "alone");
-    if (!args.input.empty()) return load_scene_quietly(SceneArgs{.scene = args.input});
+    if (!args.input.empty())
+        return load_scene_quietly(SceneArgs{.scene = args.input, .strict = args.strict});
     LoadedScene out;
     if (!args.mesh.empty()) {
         out.scene = load_mesh_file(args.mesh);
@@ -64,6 +83,7 @@ LoadedScene load_scene_quietly(const SceneArgs& args) {
         // rely on. `rtt render FILE` (--scene FILE) keeps them too.
         out.scene.lights.clear();
         out.scene.camera.reset();
+        refuse_repairs_if_strict(args, out);
         return out;
     }
     out.label = args.scene;
@@ -79,6 +99,7 @@ LoadedScene load_scene_quietly(const SceneArgs& args) {
         throw Error("unknown scene '" + args.scene + "' (built-in scenes: " + names +
                     "; or give a JSON scene file)");
     }
+    refuse_repairs_if_strict(args, out);
     return out;
 }
 

@@ -16,6 +16,7 @@ struct SceneArgs {
     std::string mesh;   ///< --mesh FILE
     std::string scene;  ///< --scene NAME | FILE
     std::string input;  ///< The positional argument, meaning --scene.
+    bool strict = false;  ///< --strict: refuse a file that needed repairs (Scene::warnings).
 
     /// What names the scene (whichever is given), for file names and messages.
     const std::string& source() const {
@@ -37,7 +38,7 @@ struct LoadedScene {
 /// where it has none); its lights and cameras are dropped. A --scene is a
 /// built-in scene's name or a scene file (JSON, or any mesh format assimp reads). Throws
 /// rtt::Error unless exactly one of the three is given, or when the scene is unknown or the
-/// file is bad.
+/// file is bad, or (--strict) was read with repairs.
 /// The importer's warnings (skipped or repaired input, Scene::warnings) go to stderr, at most
 /// a few lines.
 LoadedScene load_scene(const SceneArgs& args);

@@ -1,5 +1,6 @@
 #include "scene/assimp_sandbox.h"
 
+#include <fcntl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -225,6 +226,14 @@ Scene read_scene(Reader& r) {
 /// crash lands in the default handler: the parent sees the signal, nobody prints a report.
 [[noreturn]] void run_child(const std::string& path, int fd) {
     for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL}) std::signal(sig, SIG_DFL);
+    // Some of assimp's parsers print to stdout or stderr themselves (OpenGEX's: "nullptr
+    // returned by creating DDLNode."), past its logger: the child's output goes nowhere, so
+    // that a refusal stays one line.
+    if (const int null = open("/dev/null", O_WRONLY); null >= 0) {
+        dup2(null, STDOUT_FILENO);
+        dup2(null, STDERR_FILENO);
+        close(null);
+    }
     std::string error;
     try {
         const Scene scene = import_assimp(path);

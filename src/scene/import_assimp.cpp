@@ -162,13 +162,14 @@ private:
     const std::vector<TriangleIndices>& triangles_of(unsigned index) {
         if (mesh_checked_[index]) return mesh_tris_[index];
         const aiMesh& m = *ai_.mMeshes[index];
-        if (m.mNumVertices == 0 || !m.mVertices) fail(mesh_label(index) + ": no vertices");
-        if (m.mNumFaces > 0 && !m.mFaces) fail(mesh_label(index) + ": faces missing");
-        for (unsigned v = 0; v < m.mNumVertices; ++v)
-            if (!is_finite(vec(m.mVertices[v])))
-                fail(mesh_label(index) + ": vertex " + std::to_string(v) +
-                     " has a NaN or infinite coordinate");
         std::vector<TriangleIndices>& tris = mesh_tris_[index];
+        mesh_checked_[index] = true;
+        if (m.mNumVertices == 0 || !m.mVertices) {
+            // An empty part (an STL "solid" without facets) draws nothing: skipped.
+            scene_.warn(path_ + ": " + mesh_label(index) + ": no vertices, skipped");
+            return tris;
+        }
+        if (m.mNumFaces > 0 && !m.mFaces) fail(mesh_label(index) + ": faces missing");
         for (unsigned f = 0; f < m.mNumFaces; ++f) {
             const aiFace& face = m.mFaces[f];
             if (face.mNumIndices == 0 || !face.mIndices)
@@ -186,7 +187,6 @@ private:
             else
                 append_fan(face.mIndices, face.mNumIndices, tris);
         }
-        mesh_checked_[index] = true;
         return tris;
     }
 
@@ -218,9 +218,10 @@ private:
         const bool identity = xf.is_identity();
         std::vector<Vec3f> verts(m.mNumVertices), normals;
         for (unsigned v = 0; v < m.mNumVertices; ++v) {
-            // The identity case copies, so untransformed files keep their exact bits.
+            // The identity case copies, so untransformed files keep their exact bits. NaN or
+            // infinite vertices are dealt with by load_mesh_file (drop_non_finite_triangles).
             verts[v] = identity ? vec(m.mVertices[v]) : xf.point(vec(m.mVertices[v]));
-            if (!is_finite(verts[v]))
+            if (!is_finite(verts[v]) && is_finite(vec(m.mVertices[v])))
                 fail(mesh_label(index) + ": vertex " + std::to_string(v) +
                      " is not finite after the node transform");
         }
@@ -321,13 +322,14 @@ private:
 }  // namespace
 
 Scene import_assimp(const std::string& path) {
+    PlyCheck ply;
     {
         // assimp reads a file as PLY by its extension or by a leading "ply", whatever follows.
         std::ifstream in(path, std::ios::binary);
         char magic[3] = {};
         in.read(magic, 3);
         if (lower_extension(path) == "ply" || std::string_view(magic, 3) == "ply")
-            check_ply_structure(path);
+            ply = check_ply_structure(path);
     }
     // No DefaultLogger is created, so assimp logs nothing to stdout or stderr.
     Assimp::Importer importer;
@@ -336,17 +338,25 @@ Scene import_assimp(const std::string& path) {
     importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
     const aiScene* ai = nullptr;
     try {
-        ai = importer.ReadFile(path, 0);
+        // A repaired PLY is read from memory (a PLY refers to no other file).
+        ai = ply.repaired.empty() ? importer.ReadFile(path, 0)
+                                  : importer.ReadFileFromMemory(ply.repaired.data(),
+                                                                ply.repaired.size(), 0, "ply");
     } catch (const std::exception& e) {
         // ReadFile turns exceptions into GetErrorString() only when assimp was built with
         // ASSIMP_CATCH_GLOBAL_EXCEPTIONS (Debian's is); other builds let std::bad_alloc escape.
         throw Error(path, 0, one_line(e.what()));
     }
     if (!ai) {
-        const std::string why = one_line(importer.GetErrorString());
-        throw Error(path, 0, why.empty() ? "assimp could not read the file" : why);
+        std::string why = one_line(importer.GetErrorString());
+        if (why.empty()) why = "assimp could not read the file";
+        // A repair that may be why (a misspelt PLY keyword read as a comment).
+        if (!ply.warnings.empty()) why += " (after a repair: " + ply.warnings.front() + ")";
+        throw Error(path, 0, why);
     }
-    return AssimpImport(path, *ai).run();
+    Scene scene = AssimpImport(path, *ai).run();
+    for (std::string& w : ply.warnings) scene.warn(std::move(w));
+    return scene;
 }
 
 }  // namespace rtt::detail

@@ -30,7 +30,7 @@ int64_t obj_index(const TextParser& p, std::string_view t, size_t count) {
 
 /// The materials of an MTL file by name: Kd, Ks, Ns and illum (0 and 1 mean no highlights);
 /// other statements (textures, transparency, ...) do not apply to rtt's materials.
-std::unordered_map<std::string, Material> read_mtl(const std::string& path) {
+std::unordered_map<std::string, Material> read_mtl(const std::string& path, Scene& scene) {
     std::unordered_map<std::string, Material> out;
     std::unordered_map<std::string, bool> no_highlights;
     TextParser p{path};
@@ -39,12 +39,15 @@ std::unordered_map<std::string, Material> read_mtl(const std::string& path) {
         p.line = line;
         const std::string_view key = tk[0];
         if (key == "newmtl") {
-            if (tk.size() < 2) p.fail("newmtl without a name");
-            cur = std::string(tk[1]);
+            // An unnamed material is what an unnamed "usemtl" picks (exporters write both).
+            if (tk.size() < 2)
+                scene.warn(path + ":" + std::to_string(line) +
+                           ": newmtl without a name, used by usemtl without one");
+            cur = tk.size() < 2 ? std::string() : std::string(tk[1]);
             out[cur] = Material{};
             out[cur].name = cur;
         } else if (key == "Kd" || key == "Ks" || key == "Ns" || key == "illum") {
-            if (cur.empty()) p.fail(std::string(key) + " before newmtl");
+            if (out.empty()) p.fail(std::string(key) + " before newmtl");
             if (tk.size() < 2) p.fail("expected a value after '" + std::string(key) + "'");
             if (tk[1] == "spectral" || tk[1] == "xyz") return;  // not RGB: keep the default
             const float r = p.number(tk[1]);
@@ -90,7 +93,7 @@ private:
     void statement(const Tokens& tk) {
         const std::string_view key = tk[0];
         if (key == "v") {
-            positions_.push_back(p_.point(tk, 1, "vertex"));
+            positions_.push_back(p_.point(tk, 1, "vertex", true));
         } else if (key == "vn") {
             if (tk.size() < 4) p_.fail("expected 3 numbers for a normal");
             normals_.push_back({p_.number(tk[1]), p_.number(tk[2]), p_.number(tk[3])});
@@ -150,7 +153,7 @@ private:
         }
         // Each file is read once: repeating "mtllib big.mtl" must not cost a read per line.
         if (!loaded_mtl_.insert(file.string()).second) return;
-        for (auto& [key, m] : read_mtl(file.string())) mtl_.insert_or_assign(key, m);
+        for (auto& [key, m] : read_mtl(file.string(), scene_)) mtl_.insert_or_assign(key, m);
     }
 
     /// The scene material of the current "usemtl" name, numbered by first use. Its values are

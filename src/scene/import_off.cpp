@@ -43,7 +43,7 @@ Scene import_off(const std::string& path) {
             return;
         }
         if (stage == Stage::vertices) {
-            scene.vertices.push_back(p.point(tk, 0, "vertex"));
+            scene.vertices.push_back(p.point(tk, 0, "vertex", true));
             if (int64_t(scene.vertices.size()) == nv) stage = nf > 0 ? Stage::faces : Stage::done;
             return;
         }

@@ -21,9 +21,17 @@ Scene import_obj(const std::string& path);
 /// assimp 5.2's OFF reader clamps out-of-range indices and drops faces after a comment line.
 Scene import_off(const std::string& path);
 
+/// What check_ply_structure repaired: a warning per repair, and when there was one the file's
+/// text with the repairs (unknown header lines made comments), for assimp to read instead.
+struct PlyCheck {
+    std::vector<std::string> warnings;
+    std::string repaired;
+};
+
 /// Throws rtt::Error when the PLY file at `path` is shorter than its header says (ASCII or
-/// binary) or its header is malformed; assimp 5.2 reads such files without complaint.
-void check_ply_structure(const std::string& path);
+/// binary) or its header is malformed; assimp 5.2 reads such files without complaint, and
+/// loops forever on some malformed headers. A header line that is no PLY keyword is repaired.
+PlyCheck check_ply_structure(const std::string& path);
 
 /// Appends the fan triangulation of polygon `poly` (n >= 3 vertex indices) to `out`:
 /// (v0 v1 v2), (v0 v2 v3), ..., in that order (CONVENTIONS).

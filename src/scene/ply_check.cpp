@@ -58,18 +58,21 @@ int64_t read_count(const unsigned char* p, const Property& prop, bool big_endian
 
 }  // namespace
 
-void check_ply_structure(const std::string& path) {
-    const std::string text = read_text_file(path);
+PlyCheck check_ply_structure(const std::string& path) {
+    PlyCheck out;
+    std::string text = read_text_file(path);
     TextParser p{path};
     std::vector<Element> elements;
     std::string format;
     size_t pos = 0;
+    std::vector<size_t> unknown_lines;  // where each unknown header line starts
     // Header: one keyword line at a time up to "end_header".
     for (int line = 1;; ++line) {
         const size_t end = text.find('\n', pos);
         if (end == std::string::npos) throw Error(path, 0, "PLY header without end_header");
         Tokens tk;
         split_tokens(std::string_view(text).substr(pos, end - pos), tk);
+        const size_t line_start = pos;
         pos = end + 1;
         p.line = line;
         // Strict: assimp 5.2 loops forever on some malformed headers (one started "ply}").
@@ -103,10 +106,24 @@ void check_ply_structure(const std::string& path) {
                 p.fail("bad property line");
             elements.back().props.push_back(prop);
         } else {
-            p.fail("unknown PLY header line '" + one_line(std::string(tk[0])) + "'");
+            // A line that is no PLY keyword (exporters write "Created by ..."): read as a
+            // comment (PlyCheck::repaired), with a warning.
+            out.warnings.push_back(path + ":" + std::to_string(line) + ": unknown PLY header line '" +
+                                   one_line(std::string(tk[0])) + "' read as a comment");
+            unknown_lines.push_back(line_start);
         }
     }
     if (format.empty()) throw Error(path, 0, "PLY header without a format line");
+    if (!unknown_lines.empty()) {
+        out.repaired.reserve(text.size() + 8 * unknown_lines.size());
+        size_t copied = 0;
+        for (const size_t start : unknown_lines) {
+            out.repaired.append(text, copied, start - copied);
+            out.repaired += "comment ";
+            copied = start;
+        }
+        out.repaired.append(text, copied, std::string::npos);
+    }
     p.line = 0;
     if (format == "ascii") {
         // Count whitespace-separated values: a list is its count followed by that many items.
@@ -130,7 +147,7 @@ void check_ply_structure(const std::string& path) {
                     t += size_t(n);
                 }
         }
-        return;
+        return out;
     }
     const bool big = format == "binary_big_endian";
     const auto* data = reinterpret_cast<const unsigned char*>(text.data());
@@ -166,6 +183,7 @@ void check_ply_structure(const std::string& path) {
             }
         if (at > text.size()) truncated(path, e, e.count);
     }
+    return out;
 }
 
 }  // namespace rtt::detail

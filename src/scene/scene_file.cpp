@@ -4,6 +4,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <vector>
+#include <algorithm>
 
 #include "rtt/error.h"
 #include "rtt/scene_io.h"
@@ -44,12 +46,53 @@ void require_readable_file(const std::string& path) {
 
 }  // namespace detail
 
+namespace {
+
+/// Triangles on a NaN or infinite vertex cannot be drawn: they are dropped with one warning
+/// (later triangles are numbered one less for each), and the vertices, which no triangle uses
+/// any more, become copies of a used one so that the bounds are the triangles'. Throws when no
+/// triangle is left.
+void drop_non_finite_triangles(Scene& scene, const std::string& path) {
+    std::vector<bool> bad(scene.vertices.size());
+    size_t bad_count = 0;
+    for (size_t v = 0; v < scene.vertices.size(); ++v)
+        bad_count += bad[v] = !is_finite(scene.vertices[v]);
+    if (bad_count == 0) return;
+    size_t kept = 0;
+    const size_t before = scene.triangles.size();
+    for (size_t i = 0; i < before; ++i) {
+        const TriangleIndices& t = scene.triangles[i];
+        // Indices out of range are validate()'s to report.
+        const auto on_bad = [&](uint32_t v) { return v < bad.size() && bad[v]; };
+        if (on_bad(t[0]) || on_bad(t[1]) || on_bad(t[2])) continue;
+        scene.triangles[kept] = t;
+        if (i < scene.triangle_material.size())
+            scene.triangle_material[kept] = scene.triangle_material[i];
+        ++kept;
+    }
+    if (kept == 0)
+        throw Error(path, 0,
+                    "no triangles (all " + std::to_string(before) +
+                        " lie on NaN or infinite vertices)");
+    scene.triangles.resize(kept);
+    scene.triangle_material.resize(std::min(scene.triangle_material.size(), kept));
+    const Vec3f used = scene.vertices[scene.triangles[0][0]];
+    for (size_t v = 0; v < scene.vertices.size(); ++v)
+        if (bad[v]) scene.vertices[v] = used;
+    scene.warn(path + ": " + std::to_string(bad_count) +
+               " vertices with a NaN or infinite coordinate; the " +
+               std::to_string(before - kept) + " triangles on them dropped");
+}
+
+}  // namespace
+
 Scene load_mesh_file(const std::string& path) {
     detail::require_readable_file(path);
     const std::string ext = detail::lower_extension(path);
     Scene scene = ext == "obj"   ? detail::import_obj(path)
                   : ext == "off" ? detail::import_off(path)
                                  : detail::import_assimp_isolated(path);
+    drop_non_finite_triangles(scene, path);
     validate(scene);
     // Zero-area triangles stay (a ray can still hit one edge-on, and indices must not move);
     // say so, since they often mean a broken export.

@@ -100,11 +100,13 @@ struct TextParser {
         return v;
     }
 
-    /// tokens[first], [first + 1], [first + 2] as a point, which must be finite.
-    Vec3f point(const Tokens& tk, size_t first, const char* what) const {
+    /// tokens[first], [first + 1], [first + 2] as a point, which must be finite unless
+    /// `any_value` (mesh vertices: load_mesh_file drops the triangles on NaN or infinite ones).
+    Vec3f point(const Tokens& tk, size_t first, const char* what, bool any_value = false) const {
         if (tk.size() < first + 3) fail(std::string("expected 3 coordinates for ") + what);
         const Vec3f v{number(tk[first]), number(tk[first + 1]), number(tk[first + 2])};
-        if (!is_finite(v)) fail(std::string(what) + " has a NaN or infinite coordinate");
+        if (!any_value && !is_finite(v))
+            fail(std::string(what) + " has a NaN or infinite coordinate");
         return v;
     }
 
