@@ -17,7 +17,7 @@ namespace rtt::python {
 
 class BoundScene {
 public:
-    /// `geometry_only`: loaded like `rtt render --mesh` (one grey material, no lights, no
+    /// `geometry_only`: loaded like `rtt render --mesh` (the file's materials, no lights, no
     /// camera), so renders of it match the command line's.
     BoundScene(Scene scene, bool geometry_only);
 

@@ -32,7 +32,7 @@ auto values_checked(const F& f) {
     }
 }
 
-std::shared_ptr<BoundScene> load(const std::string& source) {
+std::shared_ptr<BoundScene> load(const std::string& source, bool strict) {
     if (is_builtin_scene(source)) return std::make_shared<BoundScene>(make_builtin_scene(source), false);
     if (!std::filesystem::exists(source)) {
         std::string names;
@@ -44,11 +44,12 @@ std::shared_ptr<BoundScene> load(const std::string& source) {
     }
     const bool json = std::filesystem::path(source).extension() == ".json";
     try {
-        if (json) return std::make_shared<BoundScene>(load_scene_json(source), false);
-        // Geometry only, as `rtt render --mesh` reads a mesh.
-        Scene scene = load_mesh_file(source);
-        scene.materials.assign(1, Material{});
-        scene.triangle_material.assign(scene.triangles.size(), 0u);
+        Scene scene = json ? load_scene_json(source) : load_mesh_file(source);
+        // strict: a file read with repairs is refused (docs/robustness.md, "Reading policy").
+        if (strict && scene.warning_count > 0)
+            throw Error(scene.warnings.front() + " (refused under strict=True)");
+        if (json) return std::make_shared<BoundScene>(std::move(scene), false);
+        // As `rtt render --mesh` reads a mesh: its materials, not its lights or camera.
         scene.lights.clear();
         scene.camera.reset();
         return std::make_shared<BoundScene>(std::move(scene), true);
@@ -149,9 +150,10 @@ PYBIND11_MODULE(_rtt, m) {
         "position"_a = py::none(), "target"_a = py::none(), "up"_a = py::none(), "fovy"_a = py::none(),
         "The primary rays of CONVENTIONS: (origin (3,), directions (H*aa, W*aa, 3)) float32, sample "
         "(i, j) of pixel (x, y) at [y*aa + j, x*aa + i], bit-identical to the renderer's.");
-    m.def("load", &load, "source"_a,
-          "Loads a mesh file (any format assimp reads; geometry only, as `rtt render --mesh`), a JSON "
-          "scene file or a built-in scene name (as `rtt render --scene`).");
+    m.def("load", &load, "source"_a, "strict"_a = false,
+          "Loads a mesh file (any format assimp reads; its geometry and materials, as `rtt render "
+          "--mesh`), a JSON scene file or a built-in scene name (as `rtt render --scene`). What was "
+          "repaired while reading is in Scene.warnings; strict=True refuses such a file.");
 
     py::class_<BoundScene, std::shared_ptr<BoundScene>>(m, "Scene")
         .def_static("from_arrays", [](const py::handle& vertices, const py::handle& triangles) {
@@ -162,6 +164,8 @@ PYBIND11_MODULE(_rtt, m) {
             "A scene from (N, 3) float32/float64 vertices (stored as float32) and (M, 3) integer "
             "triangles; triangle i keeps index i.")
         .def_property_readonly("triangle_count", [](const BoundScene& s) { return s.scene().triangle_count(); })
+        .def_property_readonly("warnings", [](const BoundScene& s) { return s.scene().warnings; },
+                               "What the reader repaired or skipped (the first 16 messages)")
         .def_property_readonly("bounds", [](const BoundScene& s) {
             const Bbox3f b = s.scene().bounds();
             return py::make_tuple(py::array_t<float>(3, &b.lo.x), py::array_t<float>(3, &b.hi.x));

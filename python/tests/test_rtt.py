@@ -99,6 +99,18 @@ def test_load_errors(tmp_path):
         rtt.load("room").tracer("no-such-kind")
 
 
+def test_repairs_are_reported_and_refused_when_strict(tmp_path):
+    # a NaN vertex: its triangle is dropped with a warning (docs/robustness.md, "Reading policy")
+    obj = tmp_path / "nan.obj"
+    obj.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv nan 0 0\nf 1 2 3\nf 1 2 4\n")
+    scene = rtt.load(str(obj))
+    assert scene.triangle_count == 1
+    assert len(scene.warnings) == 1 and "NaN or infinite" in scene.warnings[0]
+    with pytest.raises(RuntimeError, match="refused under strict=True"):
+        rtt.load(str(obj), strict=True)
+    assert rtt.load("room", strict=True).warnings == []
+
+
 @pytest.mark.parametrize("kind", EXACT_KINDS)
 def test_every_kind_agrees_with_ray(scene, kind):
     o, d = random_rays(4001)
