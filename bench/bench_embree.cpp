@@ -11,7 +11,6 @@
 // shared machine, and the same thing on an idle one); build times are wall seconds per build
 // (UseManualTime: Embree's rtcCommitScene alone, our build_kdtree alone).
 #include <benchmark/benchmark.h>
-
 #include <oneapi/tbb/global_control.h>
 
 #include <cstdio>
@@ -51,7 +50,8 @@ Scene sphere_on_ground() {
     const uint32_t mat = s.add_material({});
     const proc::Mesh ball = proc::sphere(1.f, 360, 180);
     s.add_mesh(ball.vertices, ball.triangles, mat);
-    const proc::Mesh ground = proc::quad_grid({-4.f, -1.f, 4.f}, {8.f, 0.f, 0.f}, {0.f, 0.f, -8.f}, 16, 16);
+    const proc::Mesh ground =
+        proc::quad_grid({-4.f, -1.f, 4.f}, {8.f, 0.f, 0.f}, {0.f, 0.f, -8.f}, 16, 16);
     s.add_mesh(ground.vertices, ground.triangles, mat);
     return s;
 }
@@ -67,7 +67,8 @@ const Workload& workload() {
             for (int tx = 0; tx < width; tx += tile)
                 for (int y = 0; y < tile; ++y)
                     for (int x = 0; x < tile; ++x)
-                        w.rays.push_back(Ray{camera.origin(), camera.direction(tx + x, ty + y, 0, 0)});
+                        w.rays.push_back(
+                            Ray{camera.origin(), camera.direction(tx + x, ty + y, 0, 0)});
         const std::unique_ptr<Tracer> ref = make_tracer("ray", w.scene, w.tree);
         std::vector<Hit> hits(w.rays.size());
         for (size_t i = 0; i < w.rays.size(); i += tile * tile)
@@ -95,7 +96,8 @@ void primary(benchmark::State& state, const std::string& kind) {
                               std::span(hits).subspan(i, tile * tile));
         benchmark::DoNotOptimize(hits.data());
     }
-    state.counters["Mrays"] = benchmark::Counter(double(w.rays.size()) * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["Mrays"] = benchmark::Counter(double(w.rays.size()) * 1e-6,
+                                                 benchmark::Counter::kIsIterationInvariantRate);
 }
 
 void shadow(benchmark::State& state, const std::string& kind) {
@@ -106,17 +108,20 @@ void shadow(benchmark::State& state, const std::string& kind) {
         for (size_t i = 0; i < w.rays.size(); i += tile * tile) {
             const size_t n = tile * tile;
             tracer->occluded(SegmentTile{tile, tile, w.light, std::span(w.points).subspan(i, n),
-                                         std::span(w.ids).subspan(i, n), std::span(w.active).subspan(i, n), true},
+                                         std::span(w.ids).subspan(i, n),
+                                         std::span(w.active).subspan(i, n), true},
                              std::span(visible).subspan(i, n));
         }
         benchmark::DoNotOptimize(visible.data());
     }
-    state.counters["Mrays"] = benchmark::Counter(double(w.active_count) * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["Mrays"] = benchmark::Counter(double(w.active_count) * 1e-6,
+                                                 benchmark::Counter::kIsIterationInvariantRate);
 }
 
 void build_embree(benchmark::State& state) {
     const Workload& w = workload();
-    for (auto _ : state) state.SetIterationTime(embree_build_seconds(*make_tracer("embree", w.scene, w.tree)));
+    for (auto _ : state)
+        state.SetIterationTime(embree_build_seconds(*make_tracer("embree", w.scene, w.tree)));
     state.counters["triangles"] = double(w.scene.triangle_count());
 }
 
@@ -139,7 +144,8 @@ int main(int argc, char** argv) {
                 "grid, 1024x768, 4x4-pixel tiles, primary rays and shadow segments on one thread,\n"
                 "and the build times of Embree's BVH and of the kd-tree.\n"
                 "  --threads=N  threads of the two builds (default 1)\n"
-                "Google Benchmark flags (--benchmark_filter=..., --benchmark_repetitions=N) apply.\n");
+                "Google Benchmark flags (--benchmark_filter=..., --benchmark_repetitions=N) "
+                "apply.\n");
             return 0;
         }
         if (std::strncmp(argv[i], "--threads=", 10) == 0) {
@@ -158,12 +164,18 @@ int main(int argc, char** argv) {
     if (benchmark::ReportUnrecognizedArguments(n, args.data())) return 1;
     for (const std::string& kind : rtt::tracer_kinds()) {
         if (kind == "brute") continue;  // the oracle would take minutes per frame
-        benchmark::RegisterBenchmark(("Primary/" + kind).c_str(), rtt::primary, kind)->Unit(benchmark::kMillisecond);
-        benchmark::RegisterBenchmark(("Shadow/" + kind).c_str(), rtt::shadow, kind)->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark(("Primary/" + kind).c_str(), rtt::primary, kind)
+            ->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark(("Shadow/" + kind).c_str(), rtt::shadow, kind)
+            ->Unit(benchmark::kMillisecond);
         if (kind == "embree")
-            benchmark::RegisterBenchmark("Build/embree", rtt::build_embree)->UseManualTime()->Unit(benchmark::kMillisecond);
+            benchmark::RegisterBenchmark("Build/embree", rtt::build_embree)
+                ->UseManualTime()
+                ->Unit(benchmark::kMillisecond);
     }
-    benchmark::RegisterBenchmark("Build/kdtree", rtt::build_kd)->UseManualTime()->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark("Build/kdtree", rtt::build_kd)
+        ->UseManualTime()
+        ->Unit(benchmark::kMillisecond);
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();
     return 0;

@@ -40,14 +40,15 @@ struct MeshCase {
     tbb::global_control limit;
 
     explicit MeshCase(benchmark::State& state)
-        : scene(MeshKind(state.range(0)) == sphere ? kdbench::bumpy_sphere_of(size_t(state.range(1)))
-                                                   : kdbench::triangle_soup(size_t(state.range(1)))),
+        : scene(MeshKind(state.range(0)) == sphere
+                    ? kdbench::bumpy_sphere_of(size_t(state.range(1)))
+                    : kdbench::triangle_soup(size_t(state.range(1)))),
           limit(tbb::global_control::max_allowed_parallelism,
                 state.range(2) > 0 ? size_t(state.range(2))
                                    : size_t(tbb::info::default_concurrency())) {
-        state.SetLabel(std::string(MeshKind(state.range(0)) == sphere ? "bumpy sphere"
-                                                                       : "triangle soup") +
-                       (state.range(2) > 0 ? ", 1 thread" : ", all threads"));
+        state.SetLabel(
+            std::string(MeshKind(state.range(0)) == sphere ? "bumpy sphere" : "triangle soup") +
+            (state.range(2) > 0 ? ", 1 thread" : ", all threads"));
         state.counters["tris"] = double(scene.triangle_count());
     }
 };
@@ -119,7 +120,8 @@ int main(int argc, char** argv) {
                 "1 = soup; threads: 0 = all), and Embree's BVH build on the same meshes\n"
                 "(embree_build, when Embree is built in). Counters give the tree's statistics,\n"
                 "the process CPU time per build (cpu_s) and cpu_ns/NlogN = cpu_s / (N log2 N).\n"
-                "Google Benchmark flags (--benchmark_filter=..., --benchmark_repetitions=N) apply.\n");
+                "Google Benchmark flags (--benchmark_filter=..., --benchmark_repetitions=N) "
+                "apply.\n");
             return 0;
         }
     benchmark::Initialize(&argc, argv);

@@ -27,13 +27,12 @@
 #include <string>
 #include <vector>
 
+#include "kd_bench_meshes.h"
 #include "rtt/camera.h"
 #include "rtt/kdtree.h"
 #include "rtt/tracer.h"
 #include "simd/simd.h"
 #include "trace/trace_packet.h"
-
-#include "kd_bench_meshes.h"
 
 namespace rtt {
 namespace {
@@ -80,7 +79,7 @@ const Workload& workload() {
         const uint32_t mat = w.scene.add_material({});
         kdbench::add_bumpy_sphere(w.scene, mat, sphere_rings,
                                   sphere_segments);  // 128,000 triangles by default
-        add_terrain(w.scene, mat, 64);  //   8,192 triangles
+        add_terrain(w.scene, mat, 64);               //   8,192 triangles
         w.tree = build_kdtree(w.scene);
         const Camera cam{{2.4f, 1.0f, 2.8f}, {0.f, -0.25f, 0.f}, {0.f, 1.f, 0.f}, 50.f};
         const CameraRays camera(cam, width, height, 1);

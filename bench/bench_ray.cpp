@@ -67,7 +67,12 @@ void primary_rays(benchmark::State& state) {
     state.counters["tris"] = double(w.scene.triangle_count());
     state.SetLabel("reference tracer, 1 thread, 1024x768 primary");
 }
-BENCHMARK(primary_rays)->ArgName("view")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->MinTime(3.0);
+BENCHMARK(primary_rays)
+    ->ArgName("view")
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(3.0);
 
 }  // namespace
 }  // namespace rtt

@@ -187,8 +187,10 @@ int main(int argc, char** argv) {
                 "  --scene=NAME|FILE  built-in scene or scene file (default room)\n"
                 "  --size=WxH         image size (default 640x480)\n"
                 "  --aa=K             K x K samples per pixel (default 1)\n"
-                "  --region=R         pixels per region side, as rtt render --region (0 = default)\n"
-                "Google Benchmark flags (--benchmark_filter=..., --benchmark_repetitions=N) apply.\n");
+                "  --region=R         pixels per region side, as rtt render --region (0 = "
+                "default)\n"
+                "Google Benchmark flags (--benchmark_filter=..., --benchmark_repetitions=N) "
+                "apply.\n");
             return 0;
         } else if (std::strncmp(a, "--scene=", 8) == 0) {
             scene = a + 8;

@@ -22,7 +22,9 @@ inline void add_bumpy_sphere(Scene& s, uint32_t material, int rings, int segment
             const float ph = 6.28318531f * float(k) / float(segments);
             const float rad = 1.f + 0.05f * std::sin(23.f * th) * std::cos(17.f * ph) +
                               0.03f * std::sin(61.f * ph + 3.f * th);
-            v.push_back(Vec3f{std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph)} * rad);
+            v.push_back(
+                Vec3f{std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph)} *
+                rad);
         }
     const auto at = [&](int r, int k) { return uint32_t(r * segments + k % segments); };
     for (int r = 0; r < rings; ++r)

@@ -2,6 +2,12 @@
 // bit; the times show what RTT saves. The image goes to the tracers as the renderer hands it
 // over: regions of R x R pixels (rtt::default_region(K): 16 pixels at K = 1, 8 from K = 2 to 8),
 // each tried by RTT as one shaft.
+#include <rtt/camera.h>
+#include <rtt/kdtree.h>
+#include <rtt/render.h>
+#include <rtt/rtt_options.h>
+#include <rtt/tracer.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -9,12 +15,6 @@
 #include <cstdlib>
 #include <span>
 #include <vector>
-
-#include <rtt/camera.h>
-#include <rtt/kdtree.h>
-#include <rtt/render.h>
-#include <rtt/rtt_options.h>
-#include <rtt/tracer.h>
 
 namespace {
 
@@ -24,7 +24,8 @@ rtt::Scene terrain(int n) {
     std::vector<rtt::TriangleIndices> t;
     for (int z = 0; z <= n; ++z)
         for (int x = 0; x <= n; ++x) {
-            const float fx = float(x) / float(n) * 20.f - 10.f, fz = float(z) / float(n) * 20.f - 10.f;
+            const float fx = float(x) / float(n) * 20.f - 10.f,
+                        fz = float(z) / float(n) * 20.f - 10.f;
             v.push_back({fx, 0.3f * std::sin(fx) * std::cos(0.7f * fz), fz});
         }
     const auto at = [n](int x, int z) { return uint32_t(z * (n + 1) + x); };
@@ -57,7 +58,8 @@ double trace_image(const rtt::Tracer& tracer, const rtt::CameraRays& camera,
                                       tiles_per_region > 1 ? cell : 0};
             const auto start = std::chrono::steady_clock::now();
             tracer.intersect(region, std::span(hits).subspan(done, rays.size()));
-            seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            seconds +=
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             done += rays.size();
         }
     return seconds;
@@ -77,7 +79,8 @@ int main(int argc, char** argv) {
     const rtt::CameraRays rays(camera, 320, 240, aa);
 
     std::vector<rtt::Hit> packet_hits, rtt_hits;
-    const double packet_s = trace_image(*rtt::make_tracer("packet", scene, tree), rays, packet_hits);
+    const double packet_s =
+        trace_image(*rtt::make_tracer("packet", scene, tree), rays, packet_hits);
     // RTT with its options typed (rtt/rtt_options.h); make_tracer("rtt", ...) gives the defaults.
     rtt::RttOptions options;
     options.walk_budget_base = 64;  // let the shaft walk enter a few more nodes before giving up

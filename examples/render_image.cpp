@@ -1,9 +1,5 @@
 // Renders a built-in scene (or a mesh file given as the first argument) with the renderer,
 // the way `rtt render` does, and writes the image as a PNG.
-#include <cstdio>
-#include <exception>
-#include <string>
-
 #include <rtt/builtin_scenes.h>
 #include <rtt/camera.h>
 #include <rtt/io.h>
@@ -12,15 +8,20 @@
 #include <rtt/scene_io.h>
 #include <rtt/tracer.h>
 
+#include <cstdio>
+#include <exception>
+#include <string>
+
 int main(int argc, char** argv) try {
     const std::string source = argc > 1 ? argv[1] : "room";
     const std::string out = argc > 2 ? argv[2] : "render_image.png";
-    rtt::Scene scene =
-        rtt::is_builtin_scene(source) ? rtt::make_builtin_scene(source) : rtt::load_scene_file(source);
+    rtt::Scene scene = rtt::is_builtin_scene(source) ? rtt::make_builtin_scene(source)
+                                                     : rtt::load_scene_file(source);
     if (scene.lights.empty())
-        scene.lights.push_back(rtt::make_point_light(
-            scene.camera ? scene.camera->position : rtt::default_camera_for(scene.bounds()).position,
-            scene.bounds(), 1));
+        scene.lights.push_back(
+            rtt::make_point_light(scene.camera ? scene.camera->position
+                                               : rtt::default_camera_for(scene.bounds()).position,
+                                  scene.bounds(), 1));
     const rtt::KdTree tree = rtt::build_kdtree(scene);
     const auto tracer = rtt::make_tracer("rtt", scene, tree);
 

@@ -1,11 +1,11 @@
 // A mesh from arrays in memory, its kd-tree, and one 4x4-pixel tile of camera rays answered by
 // RTT as a shaft: the smallest complete use of rtt::core.
-#include <cstdio>
-#include <vector>
-
 #include <rtt/camera.h>
 #include <rtt/kdtree.h>
 #include <rtt/tracer.h>
+
+#include <cstdio>
+#include <vector>
 
 int main() {
     // A floor of two triangles and a small upright quad in front of it.
@@ -14,7 +14,10 @@ int main() {
         {-1, 0, 0},  {1, 0, 0},  {1, 2, 0}, {-1, 2, 0},  // quad
     };
     const std::vector<rtt::TriangleIndices> triangles = {
-        {0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7},
+        {0, 2, 1},
+        {0, 3, 2},
+        {4, 5, 6},
+        {4, 6, 7},
     };
     const rtt::Scene scene = rtt::Scene::from_mesh(vertices, triangles);
     const rtt::KdTree tree = rtt::build_kdtree(scene);

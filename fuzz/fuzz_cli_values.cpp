@@ -10,11 +10,11 @@
 #include <cstdint>
 #include <string>
 
+#include "cli_values.h"
 #include "fuzz_trace.h"
 #include "fuzz_util.h"
 #include "rtt/camera.h"
 #include "rtt/kdtree.h"
-#include "cli_values.h"
 #include "rtt/render.h"
 #include "rtt/tracer.h"
 
@@ -31,9 +31,9 @@ struct BoxScene {
     BoxScene() {
         const std::vector<rtt::Vec3f> v = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
                                            {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
-        const std::vector<rtt::TriangleIndices> t = {
-            {0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
-            {3, 6, 2}, {3, 7, 6}, {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}};
+        const std::vector<rtt::TriangleIndices> t = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7},
+                                                     {0, 1, 5}, {0, 5, 4}, {3, 6, 2}, {3, 7, 6},
+                                                     {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}};
         scene.add_mesh(v, t, scene.add_material({}));
         tree = rtt::build_kdtree(scene);
         tracer = rtt::make_tracer("rtt", scene, tree);
@@ -109,9 +109,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const std::string text(reinterpret_cast<const char*>(data) + 1, size - 1);
     rtt::fuzz::expect_only_rtt_errors([&] {
         switch (data[0] % 3) {
-            case 0: fuzz_camera(text); break;
-            case 1: fuzz_size(text); break;
-            default: fuzz_light(text); break;
+            case 0:
+                fuzz_camera(text);
+                break;
+            case 1:
+                fuzz_size(text);
+                break;
+            default:
+                fuzz_light(text);
+                break;
         }
     });
     return 0;

@@ -16,7 +16,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     // assimp picks most readers by extension and falls back to sniffing the content, so these
     // reach every reader; the first ones are those rtt documents.
     static const char* const extensions[] = {"obj", "off", "ply", "stl", "gltf", "glb",
-                                             "dae", "3ds", "fbx", "x",   "ase", "ms3d",
+                                             "dae", "3ds", "fbx", "x",   "ase",  "ms3d",
                                              "lwo", "ac",  "md2", "bin"};
     if (size < 1) return 0;
     const std::string ext = extensions[data[0] % std::size(extensions)];

@@ -13,6 +13,7 @@ packages=(
   xvfb xauth xdotool                      # its tests: a headless X server and synthetic input
   clang libclang-rt-14-dev  # scripts/fuzz.sh: libFuzzer and the sanitizer runtimes for clang 14
   llvm                      # llvm-symbolizer: function names and lines in clang's sanitizer reports
+  clang-format              # scripts/format.sh: every C++ file follows .clang-format
 )
 
 missing=()

@@ -35,12 +35,12 @@ struct AgreementView {
 };
 
 struct Agreement {
-    uint64_t samples = 0;          ///< Primary samples compared.
-    uint64_t hits = 0;             ///< Of those, reference hits.
-    uint64_t hit_mismatches = 0;   ///< Different triangle or t (bit for bit).
-    uint64_t segments = 0;         ///< Active shadow segments compared.
+    uint64_t samples = 0;         ///< Primary samples compared.
+    uint64_t hits = 0;            ///< Of those, reference hits.
+    uint64_t hit_mismatches = 0;  ///< Different triangle or t (bit for bit).
+    uint64_t segments = 0;        ///< Active shadow segments compared.
     uint64_t shadow_mismatches = 0;
-    std::string first_mismatch;    ///< Where the first mismatch was, for the failure message.
+    std::string first_mismatch;  ///< Where the first mismatch was, for the failure message.
 };
 
 /// True for kinds that are run but not held to exact agreement (see the file comment).
@@ -104,12 +104,11 @@ inline std::map<std::string, Agreement> compare_tracers(const Scene& scene, cons
                         std::bit_cast<uint32_t>(got[i].t) == std::bit_cast<uint32_t>(want[i].t))
                         continue;
                     if (a.hit_mismatches++ == 0)
-                        a.first_mismatch = "tile (" + std::to_string(tx) + "," +
-                                           std::to_string(ty) + ") sample " + std::to_string(i) +
-                                           ": triangle " + std::to_string(got[i].tri) + " t " +
-                                           std::to_string(got[i].t) + ", " + reference + " says " +
-                                           std::to_string(want[i].tri) + " t " +
-                                           std::to_string(want[i].t);
+                        a.first_mismatch =
+                            "tile (" + std::to_string(tx) + "," + std::to_string(ty) + ") sample " +
+                            std::to_string(i) + ": triangle " + std::to_string(got[i].tri) + " t " +
+                            std::to_string(got[i].t) + ", " + reference + " says " +
+                            std::to_string(want[i].tri) + " t " + std::to_string(want[i].t);
                 }
                 for (size_t l = 0; l < view.lights.size(); ++l) {
                     const SegmentTile seg{side, side, view.lights[l], points, tris, active, true};
@@ -119,12 +118,11 @@ inline std::map<std::string, Agreement> compare_tracers(const Scene& scene, cons
                         ++a.segments;
                         if (vis_got[i] == visible_want[l][i]) continue;
                         if (a.shadow_mismatches++ == 0 && a.first_mismatch.empty())
-                            a.first_mismatch = "shadow, tile (" + std::to_string(tx) + "," +
-                                               std::to_string(ty) + ") sample " +
-                                               std::to_string(i) + " light " + std::to_string(l) +
-                                               ": " + std::to_string(vis_got[i]) + ", " +
-                                               reference + " says " +
-                                               std::to_string(visible_want[l][i]);
+                            a.first_mismatch =
+                                "shadow, tile (" + std::to_string(tx) + "," + std::to_string(ty) +
+                                ") sample " + std::to_string(i) + " light " + std::to_string(l) +
+                                ": " + std::to_string(vis_got[i]) + ", " + reference + " says " +
+                                std::to_string(visible_want[l][i]);
                     }
                 }
             }

@@ -96,8 +96,9 @@ TEST(BenchWorkload, RaysAndShadowSegmentsAreTheRenderers) {
                 for (int sr = 0; sr < band.tile_height(t); ++sr)
                     for (int sc = 0; sc < band.tile_width(t); ++sc) {
                         const int x = int(t % size_t(band.tiles_x)) * band.pixels + sc / k;
-                        const int y = (band.first_tile_row + int(t / size_t(band.tiles_x))) *
-                                          band.pixels + sr / k;
+                        const int y =
+                            (band.first_tile_row + int(t / size_t(band.tiles_x))) * band.pixels +
+                            sr / k;
                         if (x >= w || y >= h) continue;  // padding, cropped by the renderer
                         const size_t dst = ((size_t(y) * w + x) * k + sr % k) * k + sc % k;
                         mismatches +=
@@ -110,9 +111,11 @@ TEST(BenchWorkload, RaysAndShadowSegmentsAreTheRenderers) {
             for (const ShadowJob& j : band.shadow_jobs) {
                 segments += j.active;
                 EXPECT_GT(j.active, 0u);
-                EXPECT_EQ(j.active, uint32_t(std::count(
-                                        band.masks.begin() + long(j.mask_offset),
-                                        band.masks.begin() + long(j.mask_offset + band.tile_size(j.tile)), 1)));
+                EXPECT_EQ(
+                    j.active,
+                    uint32_t(std::count(
+                        band.masks.begin() + long(j.mask_offset),
+                        band.masks.begin() + long(j.mask_offset + band.tile_size(j.tile)), 1)));
             }
         }
         EXPECT_EQ(compared, uint64_t(w) * h * k * k);
@@ -215,7 +218,8 @@ TEST(BenchReport, ExperimentsComeBackFromTheirJsonUnchanged) {
     EXPECT_EQ(experiment_json(back), j);
     EXPECT_EQ(back.measurements.at(0).tracers.at(1).primary.stats.answered,
               e.measurements.at(0).tracers.at(1).primary.stats.answered);
-    EXPECT_THROW(experiment_from_json(nlohmann::json::parse("{\"id\": \"x\"}")), nlohmann::json::exception);
+    EXPECT_THROW(experiment_from_json(nlohmann::json::parse("{\"id\": \"x\"}")),
+                 nlohmann::json::exception);
 }
 
 TEST(BenchReport, CellsAndTables) {
@@ -345,7 +349,8 @@ TEST(BenchCli, AnswersReportsNanosecondsPerAnsweredRay) {
         EXPECT_GT(c.at("primary_answered_rays").get<uint64_t>(), 0u);
         EXPECT_GT(c.at("primary_ns_per_answered_ray").get<double>(), 0.0);
     }
-    for (const char* n : {"1", "4"}) EXPECT_GT(e.at("extra").at("limit_ns_per_ray").at(n).get<double>(), 0.0);
+    for (const char* n : {"1", "4"})
+        EXPECT_GT(e.at("extra").at("limit_ns_per_ray").at(n).get<double>(), 0.0);
     std::filesystem::remove_all(dir);
 }
 

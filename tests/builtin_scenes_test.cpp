@@ -1,3 +1,5 @@
+#include "rtt/builtin_scenes.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -7,10 +9,9 @@
 #include <tuple>
 
 #include "geom/triangle.h"
-#include "scene/procedural.h"
-#include "rtt/builtin_scenes.h"
 #include "rtt/camera.h"
 #include "rtt/error.h"
+#include "scene/procedural.h"
 #include "trace/brute_force.h"
 
 namespace rtt {
@@ -47,10 +48,15 @@ double distance2_to_triangle(const Vec3f& pf, const Vec3f& af, const Vec3f& bf, 
     auto d = [](const Vec3f& v) { return D{v.x, v.y, v.z}; };
     auto sub = [](D u, D v) { return D{u.x - v.x, u.y - v.y, u.z - v.z}; };
     auto dt = [](D u, D v) { return u.x * v.x + u.y * v.y + u.z * v.z; };
-    auto add_scaled = [](D u, D v, double s) { return D{u.x + v.x * s, u.y + v.y * s, u.z + v.z * s}; };
+    auto add_scaled = [](D u, D v, double s) {
+        return D{u.x + v.x * s, u.y + v.y * s, u.z + v.z * s};
+    };
     const D p = d(pf), a = d(af), b = d(bf), c = d(cf);
     const D ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
-    auto dist2 = [&](D q) { const D e = sub(p, q); return dt(e, e); };
+    auto dist2 = [&](D q) {
+        const D e = sub(p, q);
+        return dt(e, e);
+    };
     const double d1 = dt(ab, ap), d2 = dt(ac, ap);
     if (d1 <= 0 && d2 <= 0) return dist2(a);
     const D bp = sub(p, b);
@@ -116,7 +122,8 @@ TEST(BuiltinScenes, HaveNoDegenerateTrianglesAndUnitOrZeroNormals) {
         const Scene& s = scene(e.name);
         size_t degenerate = 0;
         for (const TriangleIndices& t : s.triangles) {
-            const Vec3f n = cross(s.vertices[t[1]] - s.vertices[t[0]], s.vertices[t[2]] - s.vertices[t[0]]);
+            const Vec3f n =
+                cross(s.vertices[t[1]] - s.vertices[t[0]], s.vertices[t[2]] - s.vertices[t[0]]);
             if (!(dot(n, n) > 0.f)) ++degenerate;
         }
         EXPECT_EQ(degenerate, 0u);
@@ -150,8 +157,9 @@ TEST(BuiltinScenes, LightsHaveTheRightKindAndSitInsideTheRoomAwayFromSurfaces) {
         for (size_t i = 0; i < s.lights.size(); ++i) {
             double nearest = 1e30;
             for (const TriangleIndices& t : s.triangles)
-                nearest = std::min(nearest, distance2_to_triangle(s.lights[i].position, s.vertices[t[0]],
-                                                                  s.vertices[t[1]], s.vertices[t[2]]));
+                nearest =
+                    std::min(nearest, distance2_to_triangle(s.lights[i].position, s.vertices[t[0]],
+                                                            s.vertices[t[1]], s.vertices[t[2]]));
             EXPECT_GT(std::sqrt(nearest), 0.05) << "light " << i;
         }
     }
@@ -168,7 +176,8 @@ TEST(BuiltinScenes, CamerasLookAcrossTheRoomFromInside) {
             EXPECT_LT(s.camera->position[a], e.room[a]);
         }
         // Looking across: the target is at least half the room's depth away.
-        EXPECT_GT(length(s.camera->target - s.camera->position), 0.5f * std::min(e.room.x, e.room.z));
+        EXPECT_GT(length(s.camera->target - s.camera->position),
+                  0.5f * std::min(e.room.x, e.room.z));
     }
 }
 
@@ -196,7 +205,8 @@ TEST(BuiltinScenes, RoomHasOneLargePlanarMirrorInView) {
         const TriangleIndices& t = s.triangles[i];
         for (uint32_t v : t)
             if (dot(n, s.vertices[v] - p0) != 0.f) ++off_plane;
-        area += 0.5 * length(cross(s.vertices[t[1]] - s.vertices[t[0]], s.vertices[t[2]] - s.vertices[t[0]]));
+        area += 0.5 * length(cross(s.vertices[t[1]] - s.vertices[t[0]],
+                                   s.vertices[t[2]] - s.vertices[t[0]]));
     }
     EXPECT_EQ(off_plane, 0u);
     EXPECT_GT(area, 1.5);  // square metres
@@ -231,7 +241,6 @@ TEST(BuiltinScenes, GenerationIsDeterministic) {
     }
 }
 
-
 // Closed primitives must be closed surfaces wound outward: after merging vertices by position,
 // every directed edge has exactly one opposite partner, and the enclosed volume (divergence
 // theorem) is positive and close to the analytic one.
@@ -263,8 +272,10 @@ Closedness closedness(const proc::Mesh& m) {
 TEST(Procedural, ClosedPrimitivesAreWatertightAndWoundOutward) {
     using namespace proc;
     const float pi_f = proc::pi;
-    const Vec2f polygon[] = {{0.f, 0.f}, {1.f, 0.f}, {1.f, 0.4f}, {0.4f, 0.4f}, {0.4f, 1.f}, {0.f, 1.f}};
-    const std::vector<Vec2f> profile{{0.f, 0.f}, {0.3f, 0.f}, {0.3f, 0.f}, {0.3f, 1.f}, {0.3f, 1.f}, {0.f, 1.f}};
+    const Vec2f polygon[] = {{0.f, 0.f},   {1.f, 0.f},  {1.f, 0.4f},
+                             {0.4f, 0.4f}, {0.4f, 1.f}, {0.f, 1.f}};
+    const std::vector<Vec2f> profile{{0.f, 0.f},  {0.3f, 0.f}, {0.3f, 0.f},
+                                     {0.3f, 1.f}, {0.3f, 1.f}, {0.f, 1.f}};
     const Vec3f path[3] = {{0.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, {0.5f, 1.5f, 0.f}};
     const float radii[3] = {0.1f, 0.1f, 0.1f};
     struct Case {

@@ -1,6 +1,8 @@
 // Camera rays against CONVENTIONS' formula, written out here once more in scalar float: the
 // renderer's (SIMD) generation must give the same bits for every sample, and so must the
 // directions RTT remakes in registers (src/geom/camera_simd.h).
+#include "rtt/camera.h"
+
 #include <gtest/gtest.h>
 
 #include <array>
@@ -10,7 +12,6 @@
 #include <vector>
 
 #include "geom/camera_simd.h"
-#include "rtt/camera.h"
 
 namespace rtt {
 namespace {
@@ -75,7 +76,8 @@ size_t lane_mismatches(const CameraRays& cam) {
     for (int sr = 0; sr < 8; ++sr) {
         const float b = row_factor(tile, sr);
         for (int sc = 0; sc < w; sc += K) {
-            const Vec3v<K> d = camera_directions<K>(cam.frame(), vfloat<K>::loadu(&a[size_t(sc)]), b);
+            const Vec3v<K> d =
+                camera_directions<K>(cam.frame(), vfloat<K>::loadu(&a[size_t(sc)]), b);
             for (int l = 0; l < K; ++l)
                 bad += !same_bits(Vec3f{d.x[l], d.y[l], d.z[l]},
                                   cam.frame().direction(a[size_t(sc + l)], b));

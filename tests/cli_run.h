@@ -18,7 +18,6 @@ namespace rtt::test {
 
 namespace fs = std::filesystem;
 
-
 inline std::string read_text(const std::string& path) {
     std::ifstream in(path);
     std::stringstream ss;

@@ -155,8 +155,8 @@ TEST(Cli, StrictRefusesRepairedFiles) {
         mtl << "newmtl\nKd 1 0 0\n";
     }
     const std::string obj = "'" + dir.file("created.obj") + "'";
-    const RunResult ok = run_cli(dir, "render --mesh " + obj + " --size 8x8 -q -o '" +
-                                          dir.file("a.png") + "'");
+    const RunResult ok =
+        run_cli(dir, "render --mesh " + obj + " --size 8x8 -q -o '" + dir.file("a.png") + "'");
     EXPECT_EQ(ok.exit_code, 0) << ok.err;
     EXPECT_NE(ok.err.find("warning: "), std::string::npos) << ok.err;
     for (const std::string& how : {"--mesh " + obj, obj}) {
@@ -181,11 +181,11 @@ TEST(Cli, StrictRefusesRepairedFiles) {
 TEST(Cli, PositionalInputIsTheScene) {
     const TempDir dir("positional");
     const std::string quoted = "'" + mesh_path + "'";
-    const RunResult a = run_cli(dir, "render " + quoted + " --size 40x30 -q --hits '" +
-                                         dir.file("a.rtth") + "'");
+    const RunResult a =
+        run_cli(dir, "render " + quoted + " --size 40x30 -q --hits '" + dir.file("a.rtth") + "'");
     ASSERT_EQ(a.exit_code, 0) << a.err;
-    const RunResult b = run_cli(dir, "render --scene " + quoted + " --size 40x30 -q --hits '" +
-                                         dir.file("b.rtth") + "'");
+    const RunResult b = run_cli(
+        dir, "render --scene " + quoted + " --size 40x30 -q --hits '" + dir.file("b.rtth") + "'");
     ASSERT_EQ(b.exit_code, 0) << b.err;
     EXPECT_EQ(read_text(dir.file("a.rtth")), read_text(dir.file("b.rtth")));
     // A coloured glTF given alone renders with its own camera and red material; with --mesh,
@@ -234,7 +234,7 @@ TEST(Cli, SavedTreeLoadsBack) {
     EXPECT_NE(loaded.out.find("load time"), std::string::npos) << loaded.out;
     const auto lines_until_sah = [](const std::string& out) {
         return out.substr(0, out.find("build time") == std::string::npos ? out.find("load time")
-                                                                          : out.find("build time"));
+                                                                         : out.find("build time"));
     };
     EXPECT_EQ(lines_until_sah(saved.out), lines_until_sah(loaded.out));
 
@@ -264,7 +264,8 @@ TEST(Cli, SavedTreeLoadsBack) {
     };
     const size_t files_before = dir.entries().size();
     for (const auto& [what, args] : cases) {
-        const RunResult r = run_cli(dir, args + (args.rfind("render", 0) == 0 ? " -q -o x.png" : ""));
+        const RunResult r =
+            run_cli(dir, args + (args.rfind("render", 0) == 0 ? " -q -o x.png" : ""));
         EXPECT_NE(r.exit_code, 0) << what;
         EXPECT_LT(r.exit_code, 128) << what << ": crashed";
         EXPECT_EQ(r.err.rfind("rtt: error: ", 0), 0u) << what << ": " << r.err;
@@ -374,11 +375,13 @@ TEST(Cli, ErrorsSayHowToFixThem) {
     TempDir dir("hints");
     const auto typo = run_cli(dir, "render --scene room --sise 8x8");
     EXPECT_EQ(typo.exit_code, 2);
-    EXPECT_NE(typo.err.find("Did you mean --size instead of --sise?"), std::string::npos) << typo.err;
+    EXPECT_NE(typo.err.find("Did you mean --size instead of --sise?"), std::string::npos)
+        << typo.err;
     EXPECT_NE(typo.err.find("See 'rtt render --help'."), std::string::npos) << typo.err;
     const auto command = run_cli(dir, "rendr --scene room");
     EXPECT_EQ(command.exit_code, 2);
-    EXPECT_NE(command.err.find("Did you mean render instead of rendr?"), std::string::npos) << command.err;
+    EXPECT_NE(command.err.find("Did you mean render instead of rendr?"), std::string::npos)
+        << command.err;
     const auto bench = run_cli(dir, "bench");
     EXPECT_EQ(bench.exit_code, 2);
     EXPECT_NE(bench.err.find("needs one of: table1, fig7"), std::string::npos) << bench.err;

@@ -26,10 +26,10 @@ namespace rtt {
 namespace {
 
 using differential::AgreementView;
-using test::scene_of;
-using test::add_grid;
 using test::add_box;
+using test::add_grid;
 using test::add_sphere;
+using test::scene_of;
 using test::Tris;
 
 /// Runs every tracer kind over each view and requires exact agreement with `reference`; also
@@ -42,7 +42,8 @@ void expect_agreement(const Scene& scene, const std::vector<AgreementView>& view
         const auto results = differential::compare_tracers(scene, tree, reference, views[v]);
         ASSERT_EQ(results.size(), tracer_kinds().size());
         const differential::Agreement& ref = results.at(reference);
-        EXPECT_GE(double(ref.hits), min_hit_fraction * double(ref.samples)) << "view sees too little";
+        EXPECT_GE(double(ref.hits), min_hit_fraction * double(ref.samples))
+            << "view sees too little";
         for (const auto& [kind, a] : results) {
             if (differential::tie_breaks_differ(kind)) continue;
             EXPECT_EQ(a.samples, ref.samples) << kind;
@@ -78,11 +79,21 @@ TEST(Degenerate, ZeroAreaAndNeedleTriangles) {
     for (int i = 0; i < 400; ++i) {
         const Vec3f a{u(rng), 1.f + 0.5f * u(rng), u(rng)}, b{u(rng), 1.f + 0.5f * u(rng), u(rng)};
         switch (i % 5) {
-            case 0: t.push_back({a, a, a}); break;                            // a point
-            case 1: t.push_back({a, b, (a + b) * 0.5f}); break;               // collinear
-            case 2: t.push_back({a, b, b}); break;                            // two equal vertices
-            case 3: t.push_back({a, b, a + Vec3f{0, 1e-7f, 0}}); break;       // needle
-            default: t.push_back({a, a + Vec3f{1e-6f, 0, 0}, b}); break;      // needle
+            case 0:
+                t.push_back({a, a, a});
+                break;  // a point
+            case 1:
+                t.push_back({a, b, (a + b) * 0.5f});
+                break;  // collinear
+            case 2:
+                t.push_back({a, b, b});
+                break;  // two equal vertices
+            case 3:
+                t.push_back({a, b, a + Vec3f{0, 1e-7f, 0}});
+                break;  // needle
+            default:
+                t.push_back({a, a + Vec3f{1e-6f, 0, 0}, b});
+                break;  // needle
         }
     }
     // Zero-area triangles lying exactly on the floor's edges and vertices, where rays of the
@@ -90,10 +101,10 @@ TEST(Degenerate, ZeroAreaAndNeedleTriangles) {
     t.push_back({{-4, 0, 0}, {4, 0, 0}, {0, 0, 0}});
     t.push_back({{0, 0, 0}, {0, 0, 0}, {0, 0, 0}});
     const Scene s = scene_of(t);
-    expect_agreement(s, {view({0, 3, 6}, {0, 0.5f, 0}, {{0, 4, 0}, {3, 1, 3}}, 32, 24, 2),
-                         view({0, 1, 5}, {0, 1, 0}, {{0, 1, 5}}),
-                         view({0.001f, 6, 0.001f}, {0, 0, 0}, {{0, 5, 0}}, 32, 32, 1, 90.f,
-                              {0, 0, -1})});
+    expect_agreement(
+        s, {view({0, 3, 6}, {0, 0.5f, 0}, {{0, 4, 0}, {3, 1, 3}}, 32, 24, 2),
+            view({0, 1, 5}, {0, 1, 0}, {{0, 1, 5}}),
+            view({0.001f, 6, 0.001f}, {0, 0, 0}, {{0, 5, 0}}, 32, 32, 1, 90.f, {0, 0, -1})});
 }
 
 TEST(Degenerate, DuplicatedTriangles) {
@@ -127,8 +138,9 @@ TEST(Degenerate, AllTrianglesCoplanar) {
                          view({-2, 2, 4}, {0, 0, 0}, {{0, 0, 0}, {5, 0, 5}, {-1.5f, 0, -3}})});
     // The camera in the plane of every triangle: all rays graze it (edge-on). Most miss, but
     // whatever is hit must be the same for everyone.
-    expect_agreement(s, {view({-6, 0, 0}, {0, 0, 0}, {{0, 1, 0}}),
-                         view({0, 0, 0}, {1, 0, 0.5f}, {{0, 1, 0}, {0, 0, 0}})},
+    expect_agreement(s,
+                     {view({-6, 0, 0}, {0, 0, 0}, {{0, 1, 0}}),
+                      view({0, 0, 0}, {1, 0, 0.5f}, {{0, 1, 0}, {0, 0, 0}})},
                      "brute", 0.0);
 }
 
@@ -143,20 +155,23 @@ TEST(Degenerate, SizesFromMicrometresToThousandsOfKilometres) {
         add_box(t, c + Vec3f{2 * s, 0, 0}, c + Vec3f{3 * s, s, s}, 1);
     }
     const Scene s = scene_of(t);
-    expect_agreement(s, {view({0, 5e-6f, 1e-5f}, {0, 2e-6f, -2e-6f}, {{1e-6f, 1e-5f, 0}}),
-                         view({0, 1, 4}, {0, 0.5f, 0}, {{0, 3, 0}, {1e5f, 1e5f, 0}}),
-                         view({3e5f, 2e5f, 6e5f}, {0, 0, 0}, {{0, 1e5f, 0}}, 32, 24, 1, 60.f)},
+    expect_agreement(s,
+                     {view({0, 5e-6f, 1e-5f}, {0, 2e-6f, -2e-6f}, {{1e-6f, 1e-5f, 0}}),
+                      view({0, 1, 4}, {0, 0.5f, 0}, {{0, 3, 0}, {1e5f, 1e5f, 0}}),
+                      view({3e5f, 2e5f, 6e5f}, {0, 0, 0}, {{0, 1e5f, 0}}, 32, 24, 1, 60.f)},
                      "brute", 0.1);
 }
 
 TEST(Degenerate, SingleTriangle) {
     const Scene s = scene_of({{{-1, 0, -1}, {1, 0, -1}, {0, 0, 1}}});
-    expect_agreement(s, {view({0, 2, 2}, {0, 0, 0}, {{0, 1, 0}}, 16, 16, 2, 45.f),
-                         view({0, -2, 0.01f}, {0, 0, 0}, {{0, -1, 0}, {0, 1, 0}}, 16, 16, 1, 45.f)});
+    expect_agreement(s,
+                     {view({0, 2, 2}, {0, 0, 0}, {{0, 1, 0}}, 16, 16, 2, 45.f),
+                      view({0, -2, 0.01f}, {0, 0, 0}, {{0, -1, 0}, {0, 1, 0}}, 16, 16, 1, 45.f)});
     // Camera on the triangle's plane (inside it, and outside beyond an edge), and on a vertex.
-    expect_agreement(s, {view({0, 0, 0}, {0, 1, 0}, {{0, 0, 0}}, 16, 16, 1, 170.f, {1, 0, 0}),
-                         view({0, 0, -3}, {0, 0, 0}, {{0, 1, 0}}),
-                         view({-1, 0, -1}, {0, -1, 0}, {{0, 1, 0}}, 16, 16, 1, 170.f, {1, 0, 0})},
+    expect_agreement(s,
+                     {view({0, 0, 0}, {0, 1, 0}, {{0, 0, 0}}, 16, 16, 1, 170.f, {1, 0, 0}),
+                      view({0, 0, -3}, {0, 0, 0}, {{0, 1, 0}}),
+                      view({-1, 0, -1}, {0, -1, 0}, {{0, 1, 0}}, 16, 16, 1, 170.f, {1, 0, 0})},
                      "brute", 0.0);
 }
 
@@ -191,10 +206,11 @@ TEST(Degenerate, CameraInsideClosedMeshes) {
     add_box(t, {-5, -5, -5}, {5, 5, 5}, 4);
     add_sphere(t, {1, 0, 0}, 2.f, 24, 12);
     const Scene s = scene_of(t);
-    expect_agreement(s, {// Inside the sphere (inside the box): every ray hits the sphere.
-                         view({1.5f, 0.3f, 0.2f}, {0, 0, -1}, {{1, 0, 0}, {4, 4, 4}}, 32, 24, 2, 90.f),
-                         // Between the sphere and the box, lights inside and outside everything.
-                         view({-4, 3, 4}, {1, 0, 0}, {{-4, 4, -4}, {9, 9, 9}}, 32, 24, 1, 100.f)},
+    expect_agreement(s,
+                     {// Inside the sphere (inside the box): every ray hits the sphere.
+                      view({1.5f, 0.3f, 0.2f}, {0, 0, -1}, {{1, 0, 0}, {4, 4, 4}}, 32, 24, 2, 90.f),
+                      // Between the sphere and the box, lights inside and outside everything.
+                      view({-4, 3, 4}, {1, 0, 0}, {{-4, 4, -4}, {9, 9, 9}}, 32, 24, 1, 100.f)},
                      "brute", 0.99);
 }
 
@@ -204,11 +220,12 @@ TEST(Degenerate, LightsOnSurfacesAndAtTheCamera) {
     add_box(t, {-1, 0, -1}, {1, 1, 1}, 2);
     const Scene s = scene_of(t);
     const Vec3f eye{3, 2, 4};
-    expect_agreement(s, {// On a face, on an edge and on a vertex of the inner box; on a wall.
-                         view(eye, {0, 0.5f, 0}, {{0, 1, 0}, {1, 1, 0}, {1, 1, 1}, {-5, 2, 0}}),
-                         // Exactly at the camera (segments are the primary rays reversed),
-                         // and at the camera while the camera sits on the floor.
-                         view(eye, {0, 0.5f, 0}, {eye}, 32, 24, 2)},
+    expect_agreement(s,
+                     {// On a face, on an edge and on a vertex of the inner box; on a wall.
+                      view(eye, {0, 0.5f, 0}, {{0, 1, 0}, {1, 1, 0}, {1, 1, 1}, {-5, 2, 0}}),
+                      // Exactly at the camera (segments are the primary rays reversed),
+                      // and at the camera while the camera sits on the floor.
+                      view(eye, {0, 0.5f, 0}, {eye}, 32, 24, 2)},
                      "brute", 0.99);
     // The camera (and a light) on the floor: the floor is seen edge-on.
     expect_agreement(s, {view({3, 0, 4}, {0, 0.5f, 0}, {{3, 0, 4}, {0, 1, 0}})}, "brute", 0.5);

@@ -11,7 +11,6 @@
 // Shadow bits are sorted alike: a tie when some triangle meets the segment only within those
 // tolerances, or within 1e-5 of the segment's ends.
 #include <gtest/gtest.h>
-
 #include <oneapi/tbb/parallel_for.h>
 
 #include <algorithm>
@@ -72,7 +71,9 @@ void add_sphere(Scene& s, const Vec3f& centre, float r, int segments, int rings)
         }
     }
     v.push_back(centre - Vec3f{0.f, r, 0.f});
-    const auto ring = [&](int i, int j) { return uint32_t(1 + (i - 1) * segments + (j % segments)); };
+    const auto ring = [&](int i, int j) {
+        return uint32_t(1 + (i - 1) * segments + (j % segments));
+    };
     for (int j = 0; j < segments; ++j) t.push_back({0, ring(1, j + 1), ring(1, j)});
     for (int i = 1; i + 1 < rings; ++i)
         for (int j = 0; j < segments; ++j) {
@@ -80,7 +81,8 @@ void add_sphere(Scene& s, const Vec3f& centre, float r, int segments, int rings)
             t.push_back({ring(i, j), ring(i + 1, j + 1), ring(i + 1, j)});
         }
     const uint32_t south = uint32_t(v.size() - 1);
-    for (int j = 0; j < segments; ++j) t.push_back({south, ring(rings - 1, j), ring(rings - 1, j + 1)});
+    for (int j = 0; j < segments; ++j)
+        t.push_back({south, ring(rings - 1, j), ring(rings - 1, j + 1)});
     s.add_mesh(v, t, s.add_material({}));
 }
 
@@ -156,9 +158,12 @@ std::vector<Camera> cameras_for(const Scene& scene, uint32_t seed) {
 /// edge_tolerance * (distance of the edge's ends from the origin) of an edge of `tri`.
 bool grazes(const Ray& ray, const TriangleVerts& tri) {
     const auto d3 = [](const Vec3f& p) { return std::array<double, 3>{p.x, p.y, p.z}; };
-    const auto sub = [](auto a, auto b) { return std::array<double, 3>{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
+    const auto sub = [](auto a, auto b) {
+        return std::array<double, 3>{a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+    };
     const auto cr = [](auto a, auto b) {
-        return std::array<double, 3>{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+        return std::array<double, 3>{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                                     a[0] * b[1] - a[1] * b[0]};
     };
     const auto dt = [](auto a, auto b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
     const auto o = d3(ray.org), d = d3(ray.dir);
@@ -169,13 +174,15 @@ bool grazes(const Ray& ray, const TriangleVerts& tri) {
         const auto w0 = cr(a, d), w1 = cr(sub(b, a), d);
         const double ww = dt(w1, w1);
         const double s = ww > 0 ? std::clamp(-dt(w0, w1) / ww, 0.0, 1.0) : 0.0;
-        const std::array<double, 3> p{a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]), a[2] + s * (b[2] - a[2])};
+        const std::array<double, 3> p{a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]),
+                                      a[2] + s * (b[2] - a[2])};
         const std::array<double, 3> w{w0[0] + s * w1[0], w0[1] + s * w1[1], w0[2] + s * w1[2]};
         const double dist = std::sqrt(dt(w, w) / dt(d, d));
         const double scale = std::max(std::sqrt(dt(a, a)), std::sqrt(dt(b, b)));
         const double t = dt(p, d) / dt(d, d);
         const double slack = t_tolerance * std::max(std::fabs(t), 1.0);
-        if (dist <= edge_tolerance * scale && t >= ray.tmin - slack && t <= double(ray.tmax) + slack)
+        if (dist <= edge_tolerance * scale && t >= ray.tmin - slack &&
+            t <= double(ray.tmax) + slack)
             return true;
     }
     return false;
@@ -188,7 +195,9 @@ double watertight_t(const Ray& ray, const TriangleVerts& tri) {
     return intersect_watertight(wr, tri, t) ? double(t) : std::nan("");
 }
 
-bool near(double a, double b) { return std::fabs(a - b) <= t_tolerance * std::max(std::fabs(a), std::fabs(b)); }
+bool near(double a, double b) {
+    return std::fabs(a - b) <= t_tolerance * std::max(std::fabs(a), std::fabs(b));
+}
 
 /// Embree said `e`, the oracle `b` (either may be a miss): a tie, or a true mismatch?
 bool is_tie(std::span<const TriangleVerts> tris, const Ray& ray, const Hit& e, const Hit& b) {
@@ -231,7 +240,8 @@ void compare_tile(std::vector<Checked>& checked, std::span<const TriangleVerts> 
         ids[i] = truth[i].tri;
         active[i] = truth[i].valid();
         for (size_t l = 0; l < lights.size(); ++l)
-            want[l * n + i] = active[i] && !occluded_brute_force(tris, shadow_ray(lights[l], points[i]));
+            want[l * n + i] =
+                active[i] && !occluded_brute_force(tris, shadow_ray(lights[l], points[i]));
     }
     for (Checked& c : checked) {
         Tally& tally = c.tally;
@@ -262,33 +272,39 @@ constexpr const char* embree_kinds[] = {"embree",        "embree-stream",       
 std::vector<Checked> embree_tracers(const Scene& scene) {
     static const KdTree no_tree;  // the Embree tracers build their own BVH
     std::vector<Checked> checked;
-    for (const char* kind : embree_kinds) checked.push_back({make_tracer(kind, scene, no_tree), {}});
+    for (const char* kind : embree_kinds)
+        checked.push_back({make_tracer(kind, scene, no_tree), {}});
     return checked;
 }
 
 /// Two lights outside the scene's box.
 std::vector<Vec3f> lights_for(const Scene& scene) {
     const Bbox3f box = scene.bounds();
-    return {box.hi + box.diagonal() * 0.5f,
-            Vec3f{box.lo.x, box.hi.y, box.center().z} + Vec3f{-0.3f, 1.f, 0.2f} * length(box.diagonal())};
+    return {box.hi + box.diagonal() * 0.5f, Vec3f{box.lo.x, box.hi.y, box.center().z} +
+                                                Vec3f{-0.3f, 1.f, 0.2f} * length(box.diagonal())};
 }
 
 /// Prints each tracer's tally and requires no mismatch, ties at most `max_tie_fraction` of the
 /// rays and of the segments.
-void expect_agreement(const std::vector<Checked>& checked, const std::string& what, double max_tie_fraction) {
+void expect_agreement(const std::vector<Checked>& checked, const std::string& what,
+                      double max_tie_fraction) {
     for (const Checked& c : checked) {
         const Tally& t = c.tally;
-        std::printf("[ %-8s ] %-9s rays %llu: ties %llu (holes %llu), mismatches %llu; "
-                    "segments %llu: ties %llu, mismatches %llu\n",
-                    std::string(c.tracer->name()).c_str(), what.c_str(), (unsigned long long)t.rays,
-                    (unsigned long long)t.ties, (unsigned long long)t.holes, (unsigned long long)t.mismatches,
-                    (unsigned long long)t.segments, (unsigned long long)t.shadow_ties,
-                    (unsigned long long)t.shadow_mismatches);
-        EXPECT_GT(t.segments, t.rays / 4) << what;  // the scene fills the view: the test tests something
+        std::printf(
+            "[ %-8s ] %-9s rays %llu: ties %llu (holes %llu), mismatches %llu; "
+            "segments %llu: ties %llu, mismatches %llu\n",
+            std::string(c.tracer->name()).c_str(), what.c_str(), (unsigned long long)t.rays,
+            (unsigned long long)t.ties, (unsigned long long)t.holes,
+            (unsigned long long)t.mismatches, (unsigned long long)t.segments,
+            (unsigned long long)t.shadow_ties, (unsigned long long)t.shadow_mismatches);
+        EXPECT_GT(t.segments, t.rays / 4)
+            << what;  // the scene fills the view: the test tests something
         EXPECT_EQ(t.mismatches, 0u) << c.tracer->name() << " " << what;
         EXPECT_EQ(t.shadow_mismatches, 0u) << c.tracer->name() << " " << what;
-        EXPECT_LE(double(t.ties), max_tie_fraction * double(t.rays)) << c.tracer->name() << " " << what;
-        EXPECT_LE(double(t.shadow_ties), max_tie_fraction * double(t.segments)) << c.tracer->name() << " " << what;
+        EXPECT_LE(double(t.ties), max_tie_fraction * double(t.rays))
+            << c.tracer->name() << " " << what;
+        EXPECT_LE(double(t.shadow_ties), max_tie_fraction * double(t.segments))
+            << c.tracer->name() << " " << what;
     }
 }
 
@@ -306,7 +322,9 @@ void check_scene(const Scene& scene, double max_tie_fraction) {
                 for (int tx = 0; tx < camera.width(); tx += 4) {
                     for (int sy = 0; sy < side; ++sy)
                         for (int sx = 0; sx < side; ++sx)
-                            rays[sy * side + sx] = Ray{camera.origin(), camera.direction(tx + sx / k, ty + sy / k, sx % k, sy % k)};
+                            rays[sy * side + sx] =
+                                Ray{camera.origin(),
+                                    camera.direction(tx + sx / k, ty + sy / k, sx % k, sy % k)};
                     compare_tile(checked, tris, side, side, rays, true, lights);
                 }
         }
@@ -339,8 +357,9 @@ TEST(Embree, PartialBlocksAndInactiveLanes) {
     std::vector<Ray> rays;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
-            rays.push_back(Ray{{-0.9f + 0.27f * float(x), -0.85f + 0.31f * float(y), 2.f}, {0.f, 0.f, -1.f}});
-    rays[3].tmax = -1.f;                          // inactive
+            rays.push_back(
+                Ray{{-0.9f + 0.27f * float(x), -0.85f + 0.31f * float(y), 2.f}, {0.f, 0.f, -1.f}});
+    rays[3].tmax = -1.f;                                // inactive
     rays[10] = Ray{{5.f, 5.f, 2.f}, {0.f, 0.f, -1.f}};  // misses
     for (const char* kind : embree_kinds) {
         const std::unique_ptr<Tracer> t = make_tracer(kind, scene, no_tree);
@@ -362,10 +381,11 @@ TEST(Embree, PartialBlocksAndInactiveLanes) {
             ids.push_back(want.tri);
             active.push_back(i % 5 != 0);
         }
-        points[1].z = 1.f;  // above the plane: visible from a light above
+        points[1].z = 1.f;   // above the plane: visible from a light above
         points[2].z = -1.f;  // below: the segment from the light crosses the grid
         std::vector<uint8_t> visible(rays.size(), 7);
-        t->occluded(SegmentTile{w, h, Vec3f{0.1f, 0.2f, 3.f}, points, ids, active, false}, visible, &stats);
+        t->occluded(SegmentTile{w, h, Vec3f{0.1f, 0.2f, 3.f}, points, ids, active, false}, visible,
+                    &stats);
         EXPECT_EQ(stats.rays, rays.size() + size_t(std::count(active.begin(), active.end(), 1)));
         for (size_t i = 0; i < rays.size(); ++i)
             EXPECT_EQ(visible[i], active[i] && points[i].z >= 0.f) << kind << " segment " << i;
@@ -382,13 +402,19 @@ TEST(Embree, ConcurrentTilesAgree) {
     std::vector<Ray> rays(tiles * 16);
     for (int i = 0; i < tiles; ++i)
         for (int s = 0; s < 16; ++s)
-            rays[i * 16 + s] = Ray{camera.origin(), camera.direction(i % tiles_x * 4 + s % 4, i / tiles_x * 4 + s / 4, 0, 0)};
+            rays[i * 16 + s] =
+                Ray{camera.origin(),
+                    camera.direction(i % tiles_x * 4 + s % 4, i / tiles_x * 4 + s / 4, 0, 0)};
     std::vector<Hit> serial(rays.size()), parallel(rays.size());
-    const auto tile = [&](int i) { return RayTile{4, 4, std::span(rays).subspan(i * 16, 16), true}; };
+    const auto tile = [&](int i) {
+        return RayTile{4, 4, std::span(rays).subspan(i * 16, 16), true};
+    };
     for (int i = 0; i < tiles; ++i) t->intersect(tile(i), std::span(serial).subspan(i * 16, 16));
-    tbb::parallel_for(0, tiles, [&](int i) { t->intersect(tile(i), std::span(parallel).subspan(i * 16, 16)); });
+    tbb::parallel_for(
+        0, tiles, [&](int i) { t->intersect(tile(i), std::span(parallel).subspan(i * 16, 16)); });
     EXPECT_EQ(serial, parallel);
-    EXPECT_GT(std::count_if(serial.begin(), serial.end(), [](const Hit& h) { return h.valid(); }), 1000);
+    EXPECT_GT(std::count_if(serial.begin(), serial.end(), [](const Hit& h) { return h.valid(); }),
+              1000);
 }
 
 TEST(Embree, AgreesOnRandomSoups) {
@@ -416,9 +442,11 @@ TEST(Embree, RaysAimedAtEdgesAndVertices) {
     std::vector<Checked> checked = embree_tracers(scene);
     std::vector<Ray> rays;
     for (const Camera& cam : cameras_for(scene, 5)) {
-        for (size_t t = 0; t < tris.size(); t += 3) {  // every third triangle: 2 of its corners, 2 edge points
+        for (size_t t = 0; t < tris.size();
+             t += 3) {  // every third triangle: 2 of its corners, 2 edge points
             const TriangleVerts& tri = tris[t];
-            for (const Vec3f& target : {tri.v0, tri.v1, tri.v0 + (tri.v1 - tri.v0) * 0.5f, tri.v1 + (tri.v2 - tri.v1) * 0.25f})
+            for (const Vec3f& target : {tri.v0, tri.v1, tri.v0 + (tri.v1 - tri.v0) * 0.5f,
+                                        tri.v1 + (tri.v2 - tri.v1) * 0.25f})
                 rays.push_back(Ray{cam.position, target - cam.position});
         }
     }
@@ -431,17 +459,20 @@ TEST(Embree, RaysAimedAtEdgesAndVertices) {
 // The classifier itself: a ray through a triangle's interior claimed to hit another triangle
 // (or nothing) is a mismatch, not a tie.
 TEST(Embree, TieClassifierIsStrict) {
-    const std::vector<TriangleVerts> tris = {{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}},
+    const std::vector<TriangleVerts> tris = {{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}},
+                                             {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}},
                                              {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}};
     const Ray through{{0.25f, 0.25f, 3.f}, {0.f, 0.f, -1.f}};
     const Hit truth = trace_brute_force(tris, through);
     ASSERT_EQ(truth.tri, 1u);
     EXPECT_FALSE(is_tie(tris, through, Hit{}, truth));
     EXPECT_FALSE(is_tie(tris, through, Hit{3.f, 0}, truth));
-    EXPECT_TRUE(is_tie(tris, Ray{{0.25f, 0.25f, -3.f}, {0.f, 0.f, 1.f}}, Hit{3.f, 2}, Hit{3.f, 0}));  // coplanar copies
+    EXPECT_TRUE(is_tie(tris, Ray{{0.25f, 0.25f, -3.f}, {0.f, 0.f, 1.f}}, Hit{3.f, 2},
+                       Hit{3.f, 0}));                     // coplanar copies
     const Ray edge{{0.5f, 0.5f, 3.f}, {0.f, 0.f, -1.f}};  // through the hypotenuse
     EXPECT_TRUE(is_tie(tris, edge, Hit{}, Hit{2.f, 1}));
-    EXPECT_FALSE(is_shadow_tie(tris, Ray{{0.25f, 0.25f, 3.f}, {0.f, 0.f, -3.f}, 1e-4f, 1.f - 1e-4f}));
+    EXPECT_FALSE(
+        is_shadow_tie(tris, Ray{{0.25f, 0.25f, 3.f}, {0.f, 0.f, -3.f}, 1e-4f, 1.f - 1e-4f}));
     EXPECT_TRUE(is_shadow_tie(tris, Ray{{0.5f, 0.5f, 3.f}, {0.f, 0.f, -4.f}, 1e-4f, 1.f - 1e-4f}));
 }
 

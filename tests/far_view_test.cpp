@@ -25,9 +25,9 @@ Scene fuzz_box() {
     s.name = "box";
     const std::vector<Vec3f> v = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
                                   {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
-    const std::vector<TriangleIndices> t = {
-        {0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
-        {3, 6, 2}, {3, 7, 6}, {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}};
+    const std::vector<TriangleIndices> t = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7},
+                                            {0, 1, 5}, {0, 5, 4}, {3, 6, 2}, {3, 7, 6},
+                                            {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}};
     s.add_mesh(v, t, s.add_material({}));
     return s;
 }
@@ -89,8 +89,9 @@ TEST(FarView, TracersAgreeSeenFrom6e7Away) {
 }
 
 TEST(FarView, OtherFarCameras) {
-    for (const char* camera : {"22,9990,5637,1,1,1,0,0,8,.00002", "-3e4,2e4,1e4,-1,1,-1,0,1,0,.0001",
-                               "1e5,1e5,1e5,1,1,1,0,1,0,.00001", "3e3,-2e3,1e3,0,0,0,0,0,1,.001"})
+    for (const char* camera :
+         {"22,9990,5637,1,1,1,0,0,8,.00002", "-3e4,2e4,1e4,-1,1,-1,0,1,0,.0001",
+          "1e5,1e5,1e5,1,1,1,0,1,0,.00001", "3e3,-2e3,1e3,0,0,0,0,0,1,.001"})
         expect_all_agree_with_brute(fuzz_box(), camera);
 }
 

@@ -397,22 +397,23 @@ TEST(Import, RepairsWarnAndKeepTheRest) {
               std::string::npos);
     // An unnamed material, picked by an unnamed usemtl.
     temp_file("unnamed.mtl", "newmtl\nKd 1 0 0\n");
-    const Scene o = load_mesh_file(temp_file("unnamed.obj", "mtllib unnamed.mtl\n" + tri +
-                                                                  "usemtl\nf 1 2 3\n"));
+    const Scene o = load_mesh_file(
+        temp_file("unnamed.obj", "mtllib unnamed.mtl\n" + tri + "usemtl\nf 1 2 3\n"));
     ASSERT_EQ(o.warning_count, 1u);
     EXPECT_NE(o.warnings[0].find("unnamed.mtl:1: newmtl without a name"), std::string::npos);
     EXPECT_EQ(o.materials[o.triangle_material[0]].diffuse, Vec3f(1, 0, 0));
     // An empty STL solid beside a full one.
-    const Scene e = load_mesh_file(temp_file(
-        "empty_solid.stl", "solid full\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 "
-                           "0\nvertex 0 1 0\nendloop\nendfacet\nendsolid full\nsolid empty\n"
-                           "endsolid empty\n"));
+    const Scene e = load_mesh_file(
+        temp_file("empty_solid.stl",
+                  "solid full\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 "
+                  "0\nvertex 0 1 0\nendloop\nendfacet\nendsolid full\nsolid empty\n"
+                  "endsolid empty\n"));
     EXPECT_EQ(e.triangles.size(), 1u);
     ASSERT_EQ(e.warning_count, 1u);
     EXPECT_NE(e.warnings[0].find("no vertices, skipped"), std::string::npos) << e.warnings[0];
     // A NaN vertex: the triangles on it go, the others keep their order.
-    const Scene n = load_mesh_file(
-        temp_file("nan_one.obj", tri + "v nan 0 0\nf 1 2 3\nf 1 2 4\nf 3 2 1\n"));
+    const Scene n =
+        load_mesh_file(temp_file("nan_one.obj", tri + "v nan 0 0\nf 1 2 3\nf 1 2 4\nf 3 2 1\n"));
     ASSERT_EQ(n.triangles.size(), 2u);
     EXPECT_EQ(n.triangles[1], (TriangleIndices{2, 1, 0}));
     EXPECT_EQ(n.bounds().hi, Vec3f(1, 1, 0));  // the NaN vertex is no longer anywhere

@@ -72,9 +72,9 @@ TEST(KdTreeFile, RoundTripGivesTheSameTreeAndHits) {
     const KdTree loaded = load_kd_tree(path, scene);
 
     ASSERT_EQ(loaded.nodes.size(), built.nodes.size());
-    EXPECT_EQ(std::memcmp(loaded.nodes.data(), built.nodes.data(),
-                          built.nodes.size() * sizeof(KdNode)),
-              0);
+    EXPECT_EQ(
+        std::memcmp(loaded.nodes.data(), built.nodes.data(), built.nodes.size() * sizeof(KdNode)),
+        0);
     EXPECT_EQ(loaded.leaf_triangles, built.leaf_triangles);
     EXPECT_EQ(std::memcmp(&loaded.bounds, &built.bounds, sizeof built.bounds), 0);
     const KdStats &a = loaded.stats, &b = built.stats;
@@ -157,8 +157,8 @@ TEST(KdTreeFile, TruncatedAndBitFlippedFilesAreRefused) {
     const std::string bytes = read_bytes(good);
     const std::string bad = dir.file("bad");
 
-    for (size_t size : {size_t(0), size_t(3), size_t(8), size_t(40), bytes.size() / 2,
-                        bytes.size() - 1}) {
+    for (size_t size :
+         {size_t(0), size_t(3), size_t(8), size_t(40), bytes.size() / 2, bytes.size() - 1}) {
         write_bytes(bad, bytes.substr(0, size));
         EXPECT_NE(load_error(bad, scene), "") << size;
     }

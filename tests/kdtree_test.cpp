@@ -1,6 +1,8 @@
 // SAH kd-tree: structure invariants, the leaf contract checked by brute force, perfect-split
 // clipping, and the reference tracer against the brute-force oracle on adversarial scenes
 // (mismatch counts must be 0).
+#include "rtt/kdtree.h"
+
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -13,14 +15,13 @@
 #include <random>
 #include <vector>
 
+#include "cli_values.h"
 #include "geom/triangle.h"
 #include "kdtree/kd_binned_sah.h"
-#include "kdtree/kd_small_build.h"
 #include "kdtree/kd_clip.h"
-#include "cli_values.h"
+#include "kdtree/kd_small_build.h"
 #include "rtt/camera.h"
 #include "rtt/error.h"
-#include "rtt/kdtree.h"
 #include "rtt/tracer.h"
 #include "trace/brute_force.h"
 #include "trace/trace_ray.h"
@@ -38,7 +39,9 @@ struct Vec3d {
     double operator[](int a) const { return a == 0 ? x : a == 1 ? y : z; }
 };
 
-Vec3d to_double(const Vec3f& v) { return {v.x, v.y, v.z}; }
+Vec3d to_double(const Vec3f& v) {
+    return {v.x, v.y, v.z};
+}
 
 // ---- scenes ---------------------------------------------------------------------------------
 
@@ -101,11 +104,21 @@ Tris degenerate_mix(size_t n, unsigned seed) {
     for (size_t i = 0; i < n; ++i) {
         const Vec3f a{pos(rng), pos(rng), pos(rng)}, b{pos(rng), pos(rng), pos(rng)};
         switch (i % 5) {
-            case 0: tris.push_back({a, a, a}); break;                     // point
-            case 1: tris.push_back({a, b, a}); break;                     // needle
-            case 2: tris.push_back({a, (a + b) * 0.5f, b}); break;        // collinear
-            case 3: tris.push_back({a, b, Vec3f{a.x, b.y, a.z}}); break;  // ordinary
-            default: tris.push_back({a, Vec3f{a.x, a.y, b.z}, Vec3f{a.x, b.y, b.z}}); break;  // x = const
+            case 0:
+                tris.push_back({a, a, a});
+                break;  // point
+            case 1:
+                tris.push_back({a, b, a});
+                break;  // needle
+            case 2:
+                tris.push_back({a, (a + b) * 0.5f, b});
+                break;  // collinear
+            case 3:
+                tris.push_back({a, b, Vec3f{a.x, b.y, a.z}});
+                break;  // ordinary
+            default:
+                tris.push_back({a, Vec3f{a.x, a.y, b.z}, Vec3f{a.x, b.y, b.z}});
+                break;  // x = const
         }
     }
     return tris;
@@ -116,7 +129,8 @@ Tris degenerate_mix(size_t n, unsigned seed) {
 /// A mix of rays meant to break a kd-tree: random, aimed at vertices and edges, axis-parallel
 /// (with signed zeros), starting exactly on split planes, parallel to split planes, from inside,
 /// with integer directions through lattice points, and segments with tmin > 0.
-std::vector<Ray> adversarial_rays(const KdTree& tree, const Tris& tris, size_t count, unsigned seed) {
+std::vector<Ray> adversarial_rays(const KdTree& tree, const Tris& tris, size_t count,
+                                  unsigned seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> u01(0.f, 1.f), sym(-1.f, 1.f);
     const Bbox3f box = tree.bounds;
@@ -138,8 +152,9 @@ std::vector<Ray> adversarial_rays(const KdTree& tree, const Tris& tris, size_t c
         Ray r;
         const TriangleVerts& t = tris[rng() % tris.size()];
         const float s = u01(rng);
-        const Vec3f target = (k / 8) % 3 == 0 ? t.v0 : (k / 8) % 3 == 1 ? t.v1 + (t.v2 - t.v1) * s
-                                                                      : (t.v0 + t.v1 + t.v2) / 3.f;
+        const Vec3f target = (k / 8) % 3 == 0   ? t.v0
+                             : (k / 8) % 3 == 1 ? t.v1 + (t.v2 - t.v1) * s
+                                                : (t.v0 + t.v1 + t.v2) / 3.f;
         switch (k % 8) {
             case 0:  // random
                 r = {point_in(lo, ext), normalize(Vec3f{sym(rng), sym(rng), sym(rng)})};
@@ -151,13 +166,16 @@ std::vector<Ray> adversarial_rays(const KdTree& tree, const Tris& tris, size_t c
             case 2: {  // axis-parallel, from a lattice point or a random one
                 r.org = k % 16 < 8 ? lattice() : point_in(lo, ext);
                 const int a = int(rng() % 3);
-                r.dir = Vec3f{rng() % 2 ? 0.f : -0.f, rng() % 2 ? 0.f : -0.f, rng() % 2 ? 0.f : -0.f};
+                r.dir =
+                    Vec3f{rng() % 2 ? 0.f : -0.f, rng() % 2 ? 0.f : -0.f, rng() % 2 ? 0.f : -0.f};
                 r.dir[a] = rng() % 2 ? 1.f : -1.f;
                 break;
             }
-            case 3:  // integer direction from a lattice point: passes exactly through lattice points
+            case 3:  // integer direction from a lattice point: passes exactly through lattice
+                     // points
                 r.org = lattice();
-                r.dir = Vec3f{float(int(rng() % 5) - 2), float(int(rng() % 5) - 2), float(int(rng() % 3) - 1)};
+                r.dir = Vec3f{float(int(rng() % 5) - 2), float(int(rng() % 5) - 2),
+                              float(int(rng() % 3) - 1)};
                 if (r.dir == Vec3f{0.f}) r.dir = {1, 1, 1};
                 break;
             case 4:  // from inside the bounds, towards a triangle
@@ -202,8 +220,11 @@ bool hits_degenerate_off_itself(const Tris& tris, const Ray& r) {
         float th;
         if (!intersect_watertight(wr, t, th)) continue;
         const Vec3d a = to_double(t.v0), e1 = to_double(t.v1 - t.v0), e2 = to_double(t.v2 - t.v0);
-        const Vec3d n{e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x};
-        const auto norm = [](const Vec3d& v) { return std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z); };
+        const Vec3d n{e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z,
+                      e1.x * e2.y - e1.y * e2.x};
+        const auto norm = [](const Vec3d& v) {
+            return std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
+        };
         if (norm(n) > 1e-5 * norm(e1) * norm(e2)) continue;  // not degenerate
         // Distance from the reported hit point to the (segment-like) triangle's edges.
         const Vec3d p{r.org.x + double(th) * r.dir.x, r.org.y + double(th) * r.dir.y,
@@ -212,20 +233,24 @@ bool hits_degenerate_off_itself(const Tris& tris, const Ray& r) {
         double dist = INFINITY, longest = 0;
         for (int k = 0; k < 3; ++k) {
             const Vec3d& q0 = v[k];
-            const Vec3d e{v[(k + 1) % 3].x - q0.x, v[(k + 1) % 3].y - q0.y, v[(k + 1) % 3].z - q0.z};
+            const Vec3d e{v[(k + 1) % 3].x - q0.x, v[(k + 1) % 3].y - q0.y,
+                          v[(k + 1) % 3].z - q0.z};
             const Vec3d w{p.x - q0.x, p.y - q0.y, p.z - q0.z};
             const double ee = e.x * e.x + e.y * e.y + e.z * e.z;
-            const double s = ee > 0 ? std::clamp((w.x * e.x + w.y * e.y + w.z * e.z) / ee, 0.0, 1.0) : 0.0;
+            const double s =
+                ee > 0 ? std::clamp((w.x * e.x + w.y * e.y + w.z * e.z) / ee, 0.0, 1.0) : 0.0;
             dist = std::min(dist, norm(Vec3d{w.x - s * e.x, w.y - s * e.y, w.z - s * e.z}));
             longest = std::max(longest, std::sqrt(ee));
         }
-        if (dist > 1e-3 * longest + 1e-5 * (std::fabs(a.x) + std::fabs(a.y) + std::fabs(a.z))) return true;
+        if (dist > 1e-3 * longest + 1e-5 * (std::fabs(a.x) + std::fabs(a.y) + std::fabs(a.z)))
+            return true;
     }
     return false;
 }
 
 /// Closest hit and any-hit of the reference tracer against brute force, ray by ray.
-Mismatches compare_with_brute_force(const KdTree& tree, const Tris& tris, const std::vector<Ray>& rays) {
+Mismatches compare_with_brute_force(const KdTree& tree, const Tris& tris,
+                                    const std::vector<Ray>& rays) {
     Mismatches m;
     for (const Ray& r : rays) {
         const Hit expect = trace_brute_force(tris, r);
@@ -241,10 +266,10 @@ Mismatches compare_with_brute_force(const KdTree& tree, const Tris& tris, const 
         if (closest_differs) {
             ++m.closest;
             if (m.closest <= 5)
-                ADD_FAILURE() << "ray org " << r.org.x << "," << r.org.y << "," << r.org.z << " dir "
-                              << r.dir.x << "," << r.dir.y << "," << r.dir.z << " [" << r.tmin << ","
-                              << r.tmax << "]: kd " << got.tri << " t=" << got.t << ", brute "
-                              << expect.tri << " t=" << expect.t;
+                ADD_FAILURE() << "ray org " << r.org.x << "," << r.org.y << "," << r.org.z
+                              << " dir " << r.dir.x << "," << r.dir.y << "," << r.dir.z << " ["
+                              << r.tmin << "," << r.tmax << "]: kd " << got.tri << " t=" << got.t
+                              << ", brute " << expect.tri << " t=" << expect.t;
         }
     }
     return m;
@@ -254,16 +279,15 @@ Mismatches compare_with_brute_force(const KdTree& tree, const Tris& tris, const 
 void expect_agrees_with_brute_force(const Tris& tris, size_t count, unsigned seed,
                                     const KdBuildConfig& config = {}) {
     const KdTree tree = build_kdtree(scene_of(tris), config);
-    const Mismatches m = compare_with_brute_force(tree, tris, adversarial_rays(tree, tris, count, seed));
+    const Mismatches m =
+        compare_with_brute_force(tree, tris, adversarial_rays(tree, tris, count, seed));
     EXPECT_EQ(m.closest, 0u);
     EXPECT_EQ(m.occluded, 0u);
     EXPECT_LE(m.excluded, count / 1000);
     EXPECT_GT(m.hits, count / 10) << "too few rays hit anything to test much";
 }
 
-
 // ---- structure and the leaf contract ------------------------------------------------------
-
 
 /// Independent check (plain Sutherland–Hodgman in double): does T meet the box shrunk by a
 /// relative margin? Then it meets the box's interior, whatever the rounding of this test.
@@ -273,7 +297,8 @@ bool meets_shrunk_box(const TriangleVerts& t, const Bbox3f& box) {
         const double lo = box.lo[a], hi = box.hi[a];
         const double margin = 1e-6 * (hi - lo) + 1e-9 * (std::fabs(lo) + std::fabs(hi));
         if (!(hi - lo > 2 * margin)) return false;  // flat box: no interior
-        for (const auto& [plane, sign] : {std::pair{lo + margin, 1.0}, std::pair{hi - margin, -1.0}}) {
+        for (const auto& [plane, sign] :
+             {std::pair{lo + margin, 1.0}, std::pair{hi - margin, -1.0}}) {
             std::vector<Vec3d> out;
             for (size_t i = 0; i < poly.size(); ++i) {
                 const Vec3d p = poly[i], q = poly[(i + 1) % poly.size()];
@@ -281,7 +306,8 @@ bool meets_shrunk_box(const TriangleVerts& t, const Bbox3f& box) {
                 if (pin) out.push_back(p);
                 if (pin != qin) {
                     const double s = (plane - p[a]) / (q[a] - p[a]);
-                    out.push_back({p.x + s * (q.x - p.x), p.y + s * (q.y - p.y), p.z + s * (q.z - p.z)});
+                    out.push_back(
+                        {p.x + s * (q.x - p.x), p.y + s * (q.y - p.y), p.z + s * (q.z - p.z)});
                 }
             }
             poly = std::move(out);
@@ -368,7 +394,7 @@ size_t leaf_contract_violations(const KdTree& tree, const Tris& tris) {
     std::uniform_real_distribution<double> u01(0.0, 1.0);
     for (uint32_t t = 0; t < tris.size(); ++t) {
         const Vec3d v[3] = {to_double(tris[t].v0), to_double(tris[t].v1), to_double(tris[t].v2)};
-        std::vector<std::array<double, 3>> weights = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1},
+        std::vector<std::array<double, 3>> weights = {{1, 0, 0},     {0, 1, 0},     {0, 0, 1},
                                                       {0.5, 0.5, 0}, {0, 0.5, 0.5}, {0.5, 0, 0.5}};
         for (int k = 0; k < 6; ++k) {
             double a = u01(rng), b = u01(rng);
@@ -380,15 +406,16 @@ size_t leaf_contract_violations(const KdTree& tree, const Tris& tris) {
         }
         for (const auto& w : weights) {
             Vec3d p{w[0] * v[0].x + w[1] * v[1].x + w[2] * v[2].x,
-                          w[0] * v[0].y + w[1] * v[1].y + w[2] * v[2].y,
-                          w[0] * v[0].z + w[1] * v[1].z + w[2] * v[2].z};
+                    w[0] * v[0].y + w[1] * v[1].y + w[2] * v[2].y,
+                    w[0] * v[0].z + w[1] * v[1].z + w[2] * v[2].z};
             // Clamped to the triangle's bounds: a coordinate shared by all vertices stays exact.
             const Bbox3f tb = triangle_bounds(tris[t]);
             p.x = std::clamp(p.x, double(tb.lo.x), double(tb.hi.x));
             p.y = std::clamp(p.y, double(tb.lo.y), double(tb.hi.y));
             p.z = std::clamp(p.z, double(tb.lo.z), double(tb.hi.z));
             bool covered = false;
-            for (const LeafInfo& leaf : leaves) covered |= box_contains(leaf.box, p) && references(leaf, t);
+            for (const LeafInfo& leaf : leaves)
+                covered |= box_contains(leaf.box, p) && references(leaf, t);
             violations += !covered;
         }
     }
@@ -421,7 +448,6 @@ void expect_valid_tree(const Tris& tris, const KdBuildConfig& config = {}) {
     EXPECT_EQ(tree.bounds.lo, bounds.lo);
     EXPECT_EQ(tree.bounds.hi, bounds.hi);
 }
-
 
 // ---- tests ----------------------------------------------------------------------------------
 
@@ -456,7 +482,8 @@ TEST(KdTree, BadInputThrows) {
 /// A random triangle in [-2, 2]^3 (flat in z if asked) and a random box in [-1, 1]^3.
 std::pair<TriangleVerts, Bbox3f> random_triangle_and_box(std::mt19937& rng, bool flat) {
     std::uniform_real_distribution<float> pos(-2.f, 2.f);
-    TriangleVerts t{{pos(rng), pos(rng), pos(rng)}, {pos(rng), pos(rng), pos(rng)},
+    TriangleVerts t{{pos(rng), pos(rng), pos(rng)},
+                    {pos(rng), pos(rng), pos(rng)},
                     {pos(rng), pos(rng), pos(rng)}};
     if (flat) t.v2.z = t.v1.z = t.v0.z;
     Bbox3f box;
@@ -473,9 +500,10 @@ Vec3d random_point_on(std::mt19937& rng, const TriangleVerts& t, bool flat) {
         a = 1.f - a;
         b = 1.f - b;
     }
-    return {(1.0 - a - b) * t.v0.x + a * double(t.v1.x) + b * double(t.v2.x),
-            (1.0 - a - b) * t.v0.y + a * double(t.v1.y) + b * double(t.v2.y),
-            flat ? double(t.v0.z) : (1.0 - a - b) * t.v0.z + a * double(t.v1.z) + b * double(t.v2.z)};
+    return {
+        (1.0 - a - b) * t.v0.x + a * double(t.v1.x) + b * double(t.v2.x),
+        (1.0 - a - b) * t.v0.y + a * double(t.v1.y) + b * double(t.v2.y),
+        flat ? double(t.v0.z) : (1.0 - a - b) * t.v0.z + a * double(t.v1.z) + b * double(t.v2.z)};
 }
 
 TEST(KdClip, ContainsEveryPointOfTheTriangleInsideTheBox) {
@@ -564,7 +592,8 @@ TEST(KdClip, TouchingAndAxisAlignedCases) {
     EXPECT_EQ(out.lo, (Vec3f{0, 0, 0.5f}));
     EXPECT_EQ(out.hi, (Vec3f{1, 1, 0.5f}));
     // Degenerate: a needle crossing the box, and a point on its face.
-    EXPECT_TRUE(clip_triangle_to_box({{-1, 0.5f, 0.5f}, {2, 0.5f, 0.5f}, {-1, 0.5f, 0.5f}}, box, out));
+    EXPECT_TRUE(
+        clip_triangle_to_box({{-1, 0.5f, 0.5f}, {2, 0.5f, 0.5f}, {-1, 0.5f, 0.5f}}, box, out));
     EXPECT_EQ(out.lo, (Vec3f{0, 0.5f, 0.5f}));
     EXPECT_EQ(out.hi, (Vec3f{1, 0.5f, 0.5f}));
     EXPECT_TRUE(clip_triangle_to_box({{1, 0.25f, 0}, {1, 0.25f, 0}, {1, 0.25f, 0}}, box, out));
@@ -608,8 +637,8 @@ TEST(KdBinnedSah, CountsAtTheChosenPlaneAreExactAndNoBinnedPlaneIsCheaper) {
             for (int k = 1; k <= planes; ++k) {
                 const float p = float(double(box.hi[a]) * k / (planes + 1));
                 const auto [below, above, planar] = counts(a, p);
-                cheapest = std::min({cheapest, cost(p, below + planar, above),
-                                     cost(p, below, above + planar)});
+                cheapest = std::min(
+                    {cheapest, cost(p, below + planar, above), cost(p, below, above + planar)});
             }
         }
         const auto [below, above, planar] = counts(split.axis, split.pos);
@@ -721,7 +750,8 @@ TEST(KdTree, MatchesBruteForceWithDegenerateTriangles) {
     const KdTree tree = build_kdtree(scene_of(tris));
     std::vector<char> referenced(tris.size(), 0);
     for (uint32_t id : tree.leaf_triangles) referenced[id] = 1;
-    EXPECT_EQ(std::count(referenced.begin(), referenced.end(), 0), 0) << "degenerate triangles dropped";
+    EXPECT_EQ(std::count(referenced.begin(), referenced.end(), 0), 0)
+        << "degenerate triangles dropped";
 }
 
 // Embree's watertightness pattern: a closed mesh far from the origin, rays from inside it
@@ -732,7 +762,9 @@ TEST(KdTree, ClosedMeshFarFromOriginSeenFromInside) {
     const Vec3f c{1e4f, 2e4f, -1e4f};
     const auto at = [&](int i, int j) {
         const double th = std::numbers::pi * i / n, ph = 2 * std::numbers::pi * j / n;
-        return c + Vec3f{float(std::sin(th) * std::cos(ph)), float(std::cos(th)), float(std::sin(th) * std::sin(ph))} * 3.f;
+        return c + Vec3f{float(std::sin(th) * std::cos(ph)), float(std::cos(th)),
+                         float(std::sin(th) * std::sin(ph))} *
+                       3.f;
     };
     for (int i = 0; i < n; ++i)
         for (int j = 0; j < n; ++j) {
@@ -775,7 +807,8 @@ TEST(KdTree, MatchesBruteForceOnCameraShadowAndSecondaryRays) {
             if (!h.valid()) continue;
             const Vec3f p = r.org + r.dir * h.t;
             for (const Vec3f& l : lights) shadow.push_back(shadow_ray(l, p));
-            secondary.push_back({p, normalize(Vec3f{sym(rng), sym(rng), sym(rng)}), 1e-4f, pos_inf});
+            secondary.push_back(
+                {p, normalize(Vec3f{sym(rng), sym(rng), sym(rng)}), 1e-4f, pos_inf});
             secondary.push_back({p, normalize(Vec3f{sym(rng), sym(rng), sym(rng)}), 0.f, pos_inf});
         }
     for (const std::vector<Ray>* rays : {&primary, &shadow, &secondary}) {
@@ -800,8 +833,9 @@ TEST(KdTree, FarCameraKeepsHitsOnTheTreeBounds) {
     for (const auto& f : faces) tris.push_back({v[f[0]], v[f[1]], v[f[2]]});
     const KdTree tree = build_kdtree(scene_of(tris));
     std::vector<Ray> rays;
-    for (const char* text : {"22,9990,05637,0,1,1,0,0,8,.000006", "22,9990,5637,1,1,1,0,0,8,.00002",
-                             "-3e4,2e4,1e4,-1,1,-1,0,1,0,.0001", "1e5,1e5,1e5,1,1,1,0,1,0,.00001"}) {
+    for (const char* text :
+         {"22,9990,05637,0,1,1,0,0,8,.000006", "22,9990,5637,1,1,1,0,0,8,.00002",
+          "-3e4,2e4,1e4,-1,1,-1,0,1,0,.0001", "1e5,1e5,1e5,1,1,1,0,1,0,.00001"}) {
         const CameraRays camera(parse_camera(text), 24, 24, 1);
         for (int y = 0; y < camera.height(); ++y)
             for (int x = 0; x < camera.width(); ++x)
@@ -838,7 +872,8 @@ TEST(KdTree, BuildDoesNotDependOnThreadCount) {
     }
     const KdTree many = build_kdtree(scene);
     ASSERT_EQ(one.nodes.size(), many.nodes.size());
-    EXPECT_EQ(std::memcmp(one.nodes.data(), many.nodes.data(), one.nodes.size() * sizeof(KdNode)), 0);
+    EXPECT_EQ(std::memcmp(one.nodes.data(), many.nodes.data(), one.nodes.size() * sizeof(KdNode)),
+              0);
     EXPECT_EQ(one.leaf_triangles, many.leaf_triangles);
 }
 
@@ -847,7 +882,8 @@ TEST(KdTree, DepthLimitsHold) {
     Tris fan;
     for (int i = 0; i < 5000; ++i) {
         const float a = 0.001f * float(i);
-        fan.push_back({{0, 0, 0}, {std::cos(a), std::sin(a), 1}, {std::cos(a + 1), std::sin(a + 1), -1}});
+        fan.push_back(
+            {{0, 0, 0}, {std::cos(a), std::sin(a), 1}, {std::cos(a + 1), std::sin(a + 1), -1}});
     }
     const KdTree tree = build_kdtree(scene_of(fan));
     EXPECT_LE(tree.stats.max_depth, int(8 + 1.3 * std::log2(5000.0)));

@@ -8,8 +8,8 @@
 
 #include "agreement.h"
 #include "geom/triangle.h"
-#include "rtt/error.h"
 #include "rtt/camera.h"
+#include "rtt/error.h"
 #include "rtt/kdtree.h"
 #include "rtt/rtt_options.h"
 #include "rtt/tracer.h"
@@ -119,8 +119,16 @@ TEST(LibraryApi, RayBatchesRefuseBadInput) {
     const auto refused = [&](Ray bad) {
         const std::vector<Ray> rays = {good, bad};
         bool intersect_threw = false, visible_threw = false;
-        try { intersect_rays(*tracer, rays, hits); } catch (const Error&) { intersect_threw = true; }
-        try { visible_rays(*tracer, rays, visible); } catch (const Error&) { visible_threw = true; }
+        try {
+            intersect_rays(*tracer, rays, hits);
+        } catch (const Error&) {
+            intersect_threw = true;
+        }
+        try {
+            visible_rays(*tracer, rays, visible);
+        } catch (const Error&) {
+            visible_threw = true;
+        }
         return intersect_threw && visible_threw;
     };
     EXPECT_TRUE(refused({{0, 0, 5}, {0, 0, 0}, 0.f, pos_inf}));

@@ -28,15 +28,14 @@
 #include "test_env.h"
 #include "triangle_soup.h"
 
-
 namespace rtt {
 namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+using test::scene_of;
 using test_env::time_slack;
 using test_env::under_asan;
-using test::scene_of;
 
 double seconds_since(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
@@ -59,7 +58,8 @@ struct RunResult {
 
 /// Runs `rtt <args>` in `dir` through the shell, after `prefix` (e.g. "ulimit -v 3000000;").
 RunResult run_cli(const TempDir& dir, const std::string& args, const std::string& prefix = "") {
-    const std::string err = (dir.path.parent_path() / (dir.path.filename().string() + ".err")).string();
+    const std::string err =
+        (dir.path.parent_path() / (dir.path.filename().string() + ".err")).string();
     const std::string cmd = "cd '" + dir.path.string() + "' && " + prefix + " '" +
                             std::string(RTT_CLI_PATH) + "' " + args + " >/dev/null 2>'" + err + "'";
     const auto start = Clock::now();
@@ -109,7 +109,8 @@ TEST(Limits, MemoryEstimatesSaturateInsteadOfWrapping) {
 
 TEST(Limits, HugeImageRefusedBeforeAllocatingUnderUlimit) {
     if (under_asan)
-        GTEST_SKIP() << "AddressSanitizer reserves terabytes of address space: ulimit -v cannot work";
+        GTEST_SKIP()
+            << "AddressSanitizer reserves terabytes of address space: ulimit -v cannot work";
     const TempDir dir("ulimit");
     const std::string limit = "ulimit -v 3000000;";  // 2.9 GiB of address space
     // 16384 x 16384 x 4 samples with both buffers: about 20 GiB.
@@ -119,7 +120,8 @@ TEST(Limits, HugeImageRefusedBeforeAllocatingUnderUlimit) {
                                       "s.rtts -o big.png",
                                   limit);
     EXPECT_EQ(big.exit_code, 1) << big.err;
-    EXPECT_NE(big.err.find("rtt: error: image 16384x16384 with 2x2 antialiasing"), std::string::npos)
+    EXPECT_NE(big.err.find("rtt: error: image 16384x16384 with 2x2 antialiasing"),
+              std::string::npos)
         << big.err;
     EXPECT_NE(big.err.find("needs about"), std::string::npos) << big.err;
     EXPECT_LT(big.seconds, 10.0 * time_slack) << "refused only after trying";
@@ -169,19 +171,19 @@ std::string instanced_gltf(int tris, int nodes) {
            "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":" +
            std::to_string(verts) + ",\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[" +
            std::to_string(verts - 1) +
-           ",6,0]},{\"bufferView\":1,\"componentType\":5125,\"count\":" +
-           std::to_string(3 * tris) +
+           ",6,0]},{\"bufferView\":1,\"componentType\":5125,\"count\":" + std::to_string(3 * tris) +
            ",\"type\":\"SCALAR\"}],\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,"
            "\"byteLength\":" +
            std::to_string(vbytes) + "},{\"buffer\":0,\"byteOffset\":" + std::to_string(vbytes) +
-           ",\"byteLength\":" + std::to_string(ibytes) + "}],\"buffers\":[{\"byteLength\":" +
-           std::to_string(bin.size()) + ",\"uri\":\"data:application/octet-stream;base64," + enc +
-           "\"}]}";
+           ",\"byteLength\":" + std::to_string(ibytes) +
+           "}],\"buffers\":[{\"byteLength\":" + std::to_string(bin.size()) +
+           ",\"uri\":\"data:application/octet-stream;base64," + enc + "\"}]}";
 }
 
 TEST(Limits, InstancedSceneRefusedBeforeAllocatingUnderUlimit) {
     if (under_asan)
-        GTEST_SKIP() << "AddressSanitizer reserves terabytes of address space: ulimit -v cannot work";
+        GTEST_SKIP()
+            << "AddressSanitizer reserves terabytes of address space: ulimit -v cannot work";
     const TempDir dir("instances");
     // 300 KB of glTF asking for 20000 x 2000 = 40 million triangles (about 10 GB with the tree).
     dir.write("many.gltf", instanced_gltf(20000, 2000));
@@ -225,18 +227,19 @@ TEST(Limits, KdTreeDepthAndSizeStayBoundedOnAdversarialInput) {
         const char* name;
         std::vector<TriangleVerts> tris;
     };
-    const std::vector<Case> cases = {{"nested towards a point", nested_towards_a_point(20000)},
-                                     {"crossing needles", crossing_needles(20000)},
-                                     {"identical", std::vector<TriangleVerts>(
-                                                       200000, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}})}};
+    const std::vector<Case> cases = {
+        {"nested towards a point", nested_towards_a_point(20000)},
+        {"crossing needles", crossing_needles(20000)},
+        {"identical", std::vector<TriangleVerts>(200000, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}})}};
     for (const Case& c : cases) {
         const auto start = Clock::now();
         const KdTree tree = build_kdtree(scene_of(c.tris));
         const double s = seconds_since(start);
         const double n = double(c.tris.size());
-        std::printf("[ limits ] %-24s %7zu triangles: depth %2d, %8zu nodes, %9zu references, %.2f s\n",
-                    c.name, c.tris.size(), tree.stats.max_depth, tree.stats.nodes,
-                    tree.stats.triangle_references, s);
+        std::printf(
+            "[ limits ] %-24s %7zu triangles: depth %2d, %8zu nodes, %9zu references, %.2f s\n",
+            c.name, c.tris.size(), tree.stats.max_depth, tree.stats.nodes,
+            tree.stats.triangle_references, s);
         EXPECT_LE(tree.stats.max_depth, std::min(kd_max_depth, int(8 + 1.3 * std::log2(n))))
             << c.name;
         // The reference count can grow with depth, never quadratically.
@@ -303,10 +306,12 @@ TEST(Limits, HugeCountsInSmallFilesAreRefusedQuickly) {
     const std::vector<std::pair<std::string, std::string>> files = {
         {"huge.off", "OFF\n4000000000 4000000000 0\n0 0 0\n"},
         {"huge_faces.off", "OFF\n3 2000000000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
-        {"huge_ascii.ply", "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\n"
-                           "property float y\nproperty float z\nend_header\n0 0 0\n"},
-        {"huge_binary.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\n"
-                            "property float x\nproperty float y\nproperty float z\nend_header\n"},
+        {"huge_ascii.ply",
+         "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\n"
+         "property float y\nproperty float z\nend_header\n0 0 0\n"},
+        {"huge_binary.ply",
+         "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\n"
+         "property float x\nproperty float y\nproperty float z\nend_header\n"},
         {"lowest_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -9223372036854775808\n"},
         {"huge_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999\n"},
     };
@@ -370,8 +375,8 @@ TEST(Limits, KilledRunNeverLeavesATruncatedOutput) {
     const TempDir dir("kill");
     const std::string old_png = "old image", old_hits = "old hits";
     const std::vector<std::string> argv_strings = {
-        RTT_CLI_PATH, "render",     "--mesh", mesh_path,    "--size", "1200x900", "-q",
-        "--threads",  "2",          "-o",     dir.file("out.png"), "--hits", dir.file("out.rtth")};
+        RTT_CLI_PATH, "render", "--mesh", mesh_path,           "--size", "1200x900",          "-q",
+        "--threads",  "2",      "-o",     dir.file("out.png"), "--hits", dir.file("out.rtth")};
     const auto run = [&](double kill_after) {
         std::ofstream(dir.file("out.png"), std::ios::binary) << old_png;
         std::ofstream(dir.file("out.rtth"), std::ios::binary) << old_hits;

@@ -1,18 +1,17 @@
 // What `rtt render` writes: images chosen by extension (PNG, EXR with AOV layers, PFM, PPM),
 // every destination checked before any work, all outputs or none, and no silent no-op.
-#include <gtest/gtest.h>
-
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
+#include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <cstring>
-#include <thread>
 #include <fstream>
+#include <thread>
 #include <vector>
 
 #include "cli_run.h"
@@ -38,7 +37,8 @@ std::vector<float> exr_channel(const std::string& path, const char* name, int& w
     if (!file.header().channels().findChannel(name)) return {};
     std::vector<float> values(size_t(w) * size_t(h));
     Imf::FrameBuffer frame;
-    frame.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(values.data()), 4, size_t(w) * 4));
+    frame.insert(name,
+                 Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(values.data()), 4, size_t(w) * 4));
     file.setFrameBuffer(frame);
     file.readPixels(box.min.y, box.max.y);
     return values;
@@ -80,8 +80,9 @@ TEST(Outputs, PfmAndPnmLayouts) {
 
 TEST(Outputs, ExrLayersAgreeWithTheHitBuffer) {
     TempDir dir("aov");
-    const auto r = run_cli(dir, "render --scene room --size 24x16 --aa 2 -q -o out.exr "
-                                "--aov depth,normal,triangle,rtt --hits h.rtth --tracer rtt");
+    const auto r = run_cli(dir,
+                           "render --scene room --size 24x16 --aa 2 -q -o out.exr "
+                           "--aov depth,normal,triangle,rtt --hits h.rtth --tracer rtt");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     int w = 0, h = 0;
     const std::vector<float> red = exr_channel(dir.file("out.exr"), "R", w, h);
@@ -99,7 +100,8 @@ TEST(Outputs, ExrLayersAgreeWithTheHitBuffer) {
     Imf::InputFile file(dir.file("out.exr").c_str());
     std::vector<uint32_t> tri(red.size());
     Imf::FrameBuffer frame;
-    frame.insert("triangle.id", Imf::Slice(Imf::UINT, reinterpret_cast<char*>(tri.data()), 4, 24 * 4));
+    frame.insert("triangle.id",
+                 Imf::Slice(Imf::UINT, reinterpret_cast<char*>(tri.data()), 4, 24 * 4));
     file.setFrameBuffer(frame);
     file.readPixels(0, 15);
     const HitBuffer hits = read_hit_buffer(dir.file("h.rtth"));
@@ -122,7 +124,8 @@ TEST(Outputs, EveryDestinationIsCheckedBeforeWork) {
         const char* args;
         const char* message;
     } cases[] = {
-        {"-o out.png --hits /nonexistent/dir/h.rtth", "--hits: cannot write /nonexistent/dir/h.rtth: folder"},
+        {"-o out.png --hits /nonexistent/dir/h.rtth",
+         "--hits: cannot write /nonexistent/dir/h.rtth: folder"},
         {"-o out.tiff", "unknown extension '.tiff'"},
         {"-o out.png --hits ./out.png", "is also the file of -o"},
         {"-o out.png --rtt-map-primary m.jpg", "--rtt-map-primary"},
@@ -137,7 +140,8 @@ TEST(Outputs, EveryDestinationIsCheckedBeforeWork) {
         EXPECT_EQ(r.exit_code, 1) << c.args;
         EXPECT_NE(r.err.find(c.message), std::string::npos) << c.args << ": " << r.err;
         const auto entries = dir.entries();
-        EXPECT_EQ(std::count_if(entries.begin(), entries.end(), [](const std::string& e) { return e != "sub"; }),
+        EXPECT_EQ(std::count_if(entries.begin(), entries.end(),
+                                [](const std::string& e) { return e != "sub"; }),
                   0)
             << c.args;
     }
@@ -158,13 +162,15 @@ TEST(Outputs, NoOutputWritesTheSceneImageAndSaysSo) {
 
 TEST(Outputs, FloatFormatsByExtension) {
     TempDir dir("formats");
-    const auto r = run_cli(dir, "render --mesh '" + mesh_path + "' --size 16x12 -q -o a.pfm --rtt-map-primary m.pgm");
+    const auto r = run_cli(
+        dir, "render --mesh '" + mesh_path + "' --size 16x12 -q -o a.pfm --rtt-map-primary m.pgm");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(read_text(dir.file("a.pfm")).substr(0, 3), "PF\n");
     EXPECT_EQ(read_text(dir.file("m.pgm")).substr(0, 3), "P5\n");
     const auto p = run_cli(dir, "render --mesh '" + mesh_path + "' --size 16x12 -q -o a.ppm");
     ASSERT_EQ(p.exit_code, 0) << p.err;
-    EXPECT_EQ(read_text(dir.file("a.ppm")).size(), std::string("P6\n16 12\n255\n").size() + 16 * 12 * 3);
+    EXPECT_EQ(read_text(dir.file("a.ppm")).size(),
+              std::string("P6\n16 12\n255\n").size() + 16 * 12 * 3);
 }
 
 }  // namespace
@@ -179,10 +185,12 @@ TEST(Outputs, SkippedInputIsReportedWithItsLine) {
                                         "usemtl shiny\nf 1 2 3\nf\n";
     const auto r = test::run_cli(dir, "render --mesh w.obj --size 8x8 -q --stats -o w.png");
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_NE(r.err.find("w.obj:1: material library missing.mtl not found"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("w.obj:1: material library missing.mtl not found"), std::string::npos)
+        << r.err;
     EXPECT_NE(r.err.find("w.obj:5: face with 2 vertices skipped"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("w.obj:8: face with 0 vertices skipped"), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find("w.obj:6: material 'shiny' is in no material library"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("w.obj:6: material 'shiny' is in no material library"), std::string::npos)
+        << r.err;
     EXPECT_NE(r.out.find("input warnings: 4"), std::string::npos) << r.out;
     // Zero-area triangles are kept (a ray can hit one edge-on) and counted in one line.
     std::ofstream(dir.file("d.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\n"
@@ -190,7 +198,8 @@ TEST(Outputs, SkippedInputIsReportedWithItsLine) {
     const auto d = test::run_cli(dir, "render --mesh d.obj --size 8x8 -q --stats -o d.png");
     ASSERT_EQ(d.exit_code, 0) << d.err;
     EXPECT_NE(d.err.find("d.obj: 2 degenerate (zero-area) triangles kept, the first is triangle 1"),
-              std::string::npos) << d.err;
+              std::string::npos)
+        << d.err;
     EXPECT_NE(d.out.find("input warnings: 1"), std::string::npos) << d.out;
 }
 
@@ -202,12 +211,14 @@ namespace {
 
 TEST(Outputs, CameraPathRendersNumberedFramesLikeSingleRenders) {
     TempDir dir("path");
-    dir.write("path.txt", "# three cameras\n1,1.6,4.5,3,1.2,0,0,1,0,60\n\n2,1.6,4.5,3,1.2,0,0,1,0,60\n"
-                          "3,1.6,4.5,3,1.2,0,0,1,0,50\n");
+    dir.write("path.txt",
+              "# three cameras\n1,1.6,4.5,3,1.2,0,0,1,0,60\n\n2,1.6,4.5,3,1.2,0,0,1,0,60\n"
+              "3,1.6,4.5,3,1.2,0,0,1,0,50\n");
     const std::string common = "render --scene room --size 24x16 -q ";
     const auto r = run_cli(dir, common + "--camera-path path.txt -o f_%03d.png --hits h_%03d.rtth");
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    const auto one = run_cli(dir, common + "--camera 2,1.6,4.5,3,1.2,0,0,1,0,60 -o one.png --hits one.rtth");
+    const auto one =
+        run_cli(dir, common + "--camera 2,1.6,4.5,3,1.2,0,0,1,0,60 -o one.png --hits one.rtth");
     ASSERT_EQ(one.exit_code, 0) << one.err;
     EXPECT_EQ(read_text(dir.file("f_001.png")), read_text(dir.file("one.png")));
     EXPECT_EQ(read_text(dir.file("h_001.rtth")), read_text(dir.file("one.rtth")));
@@ -231,8 +242,9 @@ TEST(Outputs, CameraPathRendersNumberedFramesLikeSingleRenders) {
 TEST(Outputs, CameraPathAsAJsonListGivesTheSameFrames) {
     TempDir dir("json_path");
     dir.write("path.txt", "1,1.6,4.5,3,1.2,0,0,1,0,60\n2,1.6,4.5,3,1.2,0,0,1,0,50\n");
-    dir.write("path.json", " [[1, 1.6, 4.5, 3, 1.2, 0, 0, 1, 0, 60],\n"
-                           "  {\"position\": [2, 1.6, 4.5], \"target\": [3, 1.2, 0], \"fovy\": 50}]\n");
+    dir.write("path.json",
+              " [[1, 1.6, 4.5, 3, 1.2, 0, 0, 1, 0, 60],\n"
+              "  {\"position\": [2, 1.6, 4.5], \"target\": [3, 1.2, 0], \"fovy\": 50}]\n");
     const std::string common = "render --scene room --size 24x16 -q ";
     ASSERT_EQ(run_cli(dir, common + "--camera-path path.txt -o t_%d.png").exit_code, 0);
     const auto r = run_cli(dir, common + "--camera-path path.json -o j_%d.png");
@@ -248,7 +260,8 @@ TEST(Outputs, CameraPathAsAJsonListGivesTheSameFrames) {
     };
     fails("[[1, 2, 3]]", "bad.json: camera 1: camera: expected 10 numbers");
     fails("[{\"position\": [0, 0, 1]}]", "\"position\" and \"target\"");
-    fails("[{\"position\": [0, 0, 1], \"target\": [0, 0, 0], \"zoom\": 2}]", "unknown camera key \"zoom\"");
+    fails("[{\"position\": [0, 0, 1], \"target\": [0, 0, 0], \"zoom\": 2}]",
+          "unknown camera key \"zoom\"");
     fails("[[1, 2, ", "not valid JSON");
     fails("[]", "no camera");
 }

@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
+#include "cli_values.h"
 #include "rtt/camera.h"
 #include "rtt/error.h"
 #include "rtt/io.h"
-#include "cli_values.h"
 #include "rtt/scene_io.h"
 #include "scene/assimp_sandbox.h"
 #include "scene/importers.h"
@@ -26,9 +26,9 @@ namespace fs = std::filesystem;
 struct TempFile {
     std::string path;
     TempFile(const std::string& name, const std::string& text)
-        : path((fs::temp_directory_path() /
-                ("rtt_regress_" + std::to_string(getpid()) + "_" + name))
-                   .string()) {
+        : path(
+              (fs::temp_directory_path() / ("rtt_regress_" + std::to_string(getpid()) + "_" + name))
+                  .string()) {
         std::ofstream(path, std::ios::binary) << text;
     }
     ~TempFile() { fs::remove(path); }
@@ -38,10 +38,10 @@ TEST(Regress, CameraVectorsFloatCannotNormalizeAreRefused) {
     // Found by reading camera.cpp for fuzz_cli_values' property "an accepted camera spreads its
     // rays": an up vector of length 1e20 has a squared length beyond float, `right` normalized
     // to zero, and every ray of the image went straight ahead (a uniform picture, no error).
-    for (const char* text : {"0,0,5,0,0,0,0,1e20,0,60",     // up too long
-                             "0,0,5,0,0,0,0,1e-25,0,60",    // up too short
-                             "3e19,0,0,0,0,0,0,1,0,60",     // target - position too long
-                             "1e-22,0,0,0,0,0,0,1,0,60",    // too short (squared: subnormal)
+    for (const char* text : {"0,0,5,0,0,0,0,1e20,0,60",         // up too long
+                             "0,0,5,0,0,0,0,1e-25,0,60",        // up too short
+                             "3e19,0,0,0,0,0,0,1,0,60",         // target - position too long
+                             "1e-22,0,0,0,0,0,0,1,0,60",        // too short (squared: subnormal)
                              "-3e38,0,0,3e38,0,0,0,1,0,60"}) {  // difference overflows
         const Camera c = parse_camera(text);
         EXPECT_THROW(CameraRays(c, 8, 8, 1), Error) << text;
@@ -71,7 +71,8 @@ TEST(Regress, BufferHeaderWhoseSampleCountWrapsIsRefused) {
     const TempFile b("empty.rtth", empty);
     EXPECT_THROW(read_hit_buffer(b.path), Error);
     // A header whose count fits is still read.
-    const TempFile c("ok.rtth", std::string("RTTH\x01\0\0\0\x01\0\0\0\x01\0\0\0\x01\0\0\0\x07\0\0\0", 24));
+    const TempFile c("ok.rtth",
+                     std::string("RTTH\x01\0\0\0\x01\0\0\0\x01\0\0\0\x01\0\0\0\x07\0\0\0", 24));
     EXPECT_EQ(read_hit_buffer(c.path).hits, std::vector<uint32_t>{7u});
 }
 
@@ -84,14 +85,16 @@ TEST(Regress, FileThatCrashesAssimpIsAnError) {
         load_mesh_file(path);
         ADD_FAILURE() << "a file assimp crashes on loaded";
     } catch (const Error& e) {
-        EXPECT_NE(std::string(e.what()).find("crashed on this file"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("crashed on this file"), std::string::npos)
+            << e.what();
         EXPECT_EQ(std::string(e.what()).rfind(path, 0), 0u) << e.what();
     }
     // The same through the program: one line, exit status 1.
-    const std::string err = (fs::temp_directory_path() /
-                             ("rtt_regress_" + std::to_string(getpid()) + ".err")).string();
-    const int status = std::system(("'" + std::string(RTT_CLI_PATH) + "' render -q --mesh '" +
-                                    path + "' 2>'" + err + "'").c_str());
+    const std::string err =
+        (fs::temp_directory_path() / ("rtt_regress_" + std::to_string(getpid()) + ".err")).string();
+    const int status = std::system(
+        ("'" + std::string(RTT_CLI_PATH) + "' render -q --mesh '" + path + "' 2>'" + err + "'")
+            .c_str());
     EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << status;
     std::ifstream in(err);
     std::string line, extra;
@@ -141,8 +144,8 @@ TEST(Regress, CommandLineValuesAreStrict) {
     parse_size("640x480", w, h);
     EXPECT_EQ(w, 640);
     EXPECT_EQ(h, 480);
-    for (const char* bad : {"640", "x480", "640x", "640x480x2", "99999999999x1", "+640x480",
-                            "640 x480", "6.5x4"})
+    for (const char* bad :
+         {"640", "x480", "640x", "640x480x2", "99999999999x1", "+640x480", "640 x480", "6.5x4"})
         EXPECT_THROW(parse_size(bad, w, h), Error) << bad;
 }
 

@@ -30,17 +30,17 @@ void add_box(Scene& s, Vec3f lo, Vec3f hi, uint32_t material) {
         v.push_back({i & 4 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 1 ? hi.z : lo.z});
     s.add_mesh(v,
                std::vector<TriangleIndices>{{0, 1, 3},
-                {0, 3, 2},
-                {4, 6, 7},
-                {4, 7, 5},
-                {0, 4, 5},
-                {0, 5, 1},
-                {2, 3, 7},
-                {2, 7, 6},
-                {0, 2, 6},
-                {0, 6, 4},
-                {1, 5, 7},
-                {1, 7, 3}},
+                                            {0, 3, 2},
+                                            {4, 6, 7},
+                                            {4, 7, 5},
+                                            {0, 4, 5},
+                                            {0, 5, 1},
+                                            {2, 3, 7},
+                                            {2, 7, 6},
+                                            {0, 2, 6},
+                                            {0, 6, 4},
+                                            {1, 5, 7},
+                                            {1, 7, 3}},
                material);
 }
 
@@ -324,20 +324,30 @@ TEST(Render, BandsInAnyOrderAssembleTheSameImage) {
             const size_t at = size_t(band.first_row) * size_t(o.width);
             std::copy(band.pixels.begin(), band.pixels.end(), assembled.pixels.begin() + long(at));
             std::copy(band.hits.begin(), band.hits.end(), assembled.hits.begin() + long(at * spp));
-            std::copy(band.shadows.begin(), band.shadows.end(), assembled.shadows.begin() + long(at * spp));
+            std::copy(band.shadows.begin(), band.shadows.end(),
+                      assembled.shadows.begin() + long(at * spp));
             std::copy(band.depth.begin(), band.depth.end(), assembled.depth.begin() + long(at));
             EXPECT_EQ(band.pixels.size(), size_t(band.rows) * size_t(o.width));
         });
-    EXPECT_EQ(std::memcmp(assembled.pixels.data(), whole.pixels.data(), whole.pixels.size() * sizeof(Vec3f)), 0);
+    EXPECT_EQ(std::memcmp(assembled.pixels.data(), whole.pixels.data(),
+                          whole.pixels.size() * sizeof(Vec3f)),
+              0);
     EXPECT_EQ(assembled.hits, whole.hits);
     EXPECT_EQ(assembled.shadows, whole.shadows);
-    EXPECT_EQ(std::memcmp(assembled.depth.data(), whole.depth.data(), whole.depth.size() * sizeof(float)), 0);
+    EXPECT_EQ(
+        std::memcmp(assembled.depth.data(), whole.depth.data(), whole.depth.size() * sizeof(float)),
+        0);
     EXPECT_EQ(stats.rays_by_depth, whole.stats.rays_by_depth);
     EXPECT_EQ(stats.primary.trace.rays, whole.stats.primary.trace.rays);
     EXPECT_EQ(stats.shadow.trace.answered, whole.stats.shadow.trace.answered);
     // A band outside the image is refused.
-    EXPECT_THROW(render_bands(f.scene, *f.tracer, o, [](int& first, int& count) { first = 17, count = 2; return true; },
-                              [](RenderResult&) {}),
+    EXPECT_THROW(render_bands(
+                     f.scene, *f.tracer, o,
+                     [](int& first, int& count) {
+                         first = 17, count = 2;
+                         return true;
+                     },
+                     [](RenderResult&) {}),
                  Error);
 }
 

@@ -29,10 +29,10 @@
 namespace rtt {
 namespace {
 
-using test::scene_of;
-using test::add_grid;
 using test::add_box;
+using test::add_grid;
 using test::add_sphere;
+using test::scene_of;
 using test::Tris;
 
 void add_soup(Tris& out, size_t n, unsigned seed, Vec3f center, float extent, float size) {
@@ -405,7 +405,8 @@ TEST(Rtt, BuiltinRoomMatchesReference) {
     tally.print("builtin room");
     EXPECT_EQ(tally.mismatches, 0u);
     EXPECT_EQ(tally.segment_mismatches, 0u);
-    // At K = 1 (the 256x192 view) only tiles with coherent corners are answered (primary_tiles.cpp).
+    // At K = 1 (the 256x192 view) only tiles with coherent corners are answered
+    // (primary_tiles.cpp).
     EXPECT_GT(tally.answered_fraction(), 0.12);
     EXPECT_GT(tally.segments_answered_fraction(), 0.2);
 }
@@ -458,7 +459,8 @@ TEST(Rtt, RenderWithMirrorsMatchesReference) {
             EXPECT_EQ(a.hits, c.hits) << "region " << region;
             EXPECT_EQ(a.shadows, c.shadows) << "region " << region;
             ASSERT_EQ(a.pixels.size(), c.pixels.size());
-            EXPECT_EQ(std::memcmp(a.pixels.data(), c.pixels.data(), a.pixels.size() * sizeof(Vec3f)), 0)
+            EXPECT_EQ(
+                std::memcmp(a.pixels.data(), c.pixels.data(), a.pixels.size() * sizeof(Vec3f)), 0)
                 << "region " << region;
             EXPECT_EQ(a.stats.secondary.trace.rays, c.stats.secondary.trace.rays);
         }
@@ -544,8 +546,10 @@ TEST(Rtt, RegionsOnCornerRaysAndSoupsMatchBruteForce) {
                 return cam.origin() + cam.direction(x, y, 0, 0) * s;
             };
             const float s = 2.f + float((tx * 7 + ty * 3) % 5);
-            t.push_back({at(tx * 4, ty * 4, s), at(tx * 4 + 3, ty * 4, s), at(tx * 4 + 3, ty * 4 + 3, s)});
-            t.push_back({at(tx * 4, ty * 4, s), at(tx * 4 + 3, ty * 4 + 3, s), at(tx * 4, ty * 4 + 3, s)});
+            t.push_back(
+                {at(tx * 4, ty * 4, s), at(tx * 4 + 3, ty * 4, s), at(tx * 4 + 3, ty * 4 + 3, s)});
+            t.push_back(
+                {at(tx * 4, ty * 4, s), at(tx * 4 + 3, ty * 4 + 3, s), at(tx * 4, ty * 4 + 3, s)});
         }
     add_grid(t, {-8, -8, -3}, {16, 0, 0}, {0, 16, 0}, 5, 5);
     const Scene scene = scene_of(t);

@@ -1,9 +1,6 @@
 // RTT's geometric building blocks: the shaft's conservative rejection tests (a rejected triangle
 // is never hit by any ray the shaft accepts, whatever the float test's rounding), the whole-tile
 // occluder test, the per-ray check, the region used for shaft culling, and exact plane identity.
-#include "relevant_triangles/conservative_tests.h"
-#include "relevant_triangles/region.h"
-
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -13,6 +10,8 @@
 
 #include "geom/plane_id.h"
 #include "geom/triangle.h"
+#include "relevant_triangles/conservative_tests.h"
+#include "relevant_triangles/region.h"
 #include "rtt/camera.h"
 #include "rtt/tracer.h"
 

@@ -1,6 +1,5 @@
 // The SIMD value types and the K-wide watertight test, lane by lane against the scalar C++
 // they stand for, bit for bit (NaN, infinities, signed zeros and denormals included).
-#include "simd/lane_bytes.h"
 #include "simd/simd.h"
 
 #include <gtest/gtest.h>
@@ -15,6 +14,7 @@
 #include <vector>
 
 #include "geom/triangle_simd.h"
+#include "simd/lane_bytes.h"
 
 namespace rtt {
 namespace {

@@ -15,8 +15,7 @@ namespace fs = std::filesystem;
 struct TempDir {
     fs::path path;
     explicit TempDir(const std::string& name)
-        : path(fs::temp_directory_path() /
-               ("rtt_test_" + std::to_string(getpid()) + "_" + name)) {
+        : path(fs::temp_directory_path() / ("rtt_test_" + std::to_string(getpid()) + "_" + name)) {
         fs::remove_all(path);
         fs::create_directories(path);
     }

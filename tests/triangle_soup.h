@@ -63,7 +63,8 @@ inline void add_sphere(Tris& out, Vec3f c, float r, int nu, int nv) {
     const auto p = [&](int i, int j) {
         const float th = std::numbers::pi_v<float> * float(i) / float(nv);
         const float ph = 2.f * std::numbers::pi_v<float> * float(j % nu) / float(nu);
-        return c + Vec3f{std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph)} * r;
+        return c +
+               Vec3f{std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph)} * r;
     };
     for (int i = 0; i < nv; ++i)
         for (int j = 0; j < nu; ++j) {

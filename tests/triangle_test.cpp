@@ -1,8 +1,9 @@
+#include "geom/triangle.h"
+
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "geom/triangle.h"
 #include "trace/brute_force.h"
 
 namespace rtt {
@@ -21,8 +22,10 @@ TEST(Triangle, HitsInsideMissesOutside) {
 TEST(Triangle, RespectsRayInterval) {
     const TriangleVerts tri{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
     float t = 0;
-    EXPECT_FALSE(intersect_watertight(WatertightRay(Ray{{0.2f, 0.2f, 1}, {0, 0, -1}, 0.f, 0.5f}), tri, t));
-    EXPECT_FALSE(intersect_watertight(WatertightRay(Ray{{0.2f, 0.2f, 1}, {0, 0, -1}, 1.5f, 9.f}), tri, t));
+    EXPECT_FALSE(
+        intersect_watertight(WatertightRay(Ray{{0.2f, 0.2f, 1}, {0, 0, -1}, 0.f, 0.5f}), tri, t));
+    EXPECT_FALSE(
+        intersect_watertight(WatertightRay(Ray{{0.2f, 0.2f, 1}, {0, 0, -1}, 1.5f, 9.f}), tri, t));
 }
 
 // A ray through the shared edge or shared vertex of a closed fan must hit at least one triangle.

@@ -20,7 +20,9 @@ namespace {
 
 const Camera start{{1.f, 2.f, 3.f}, {0.f, 0.5f, 0.f}, {0.f, 1.f, 0.f}, 50.f};
 
-float distance_to_target(const Camera& c) { return length(c.position - c.target); }
+float distance_to_target(const Camera& c) {
+    return length(c.position - c.target);
+}
 
 TEST(ViewCamera, StartsBitForBitAtTheGivenCameraAndResetsToIt) {
     view::OrbitCamera camera(start, 10.f);
@@ -88,7 +90,7 @@ TEST(ViewKeys, ChangeTheStateAsTheHelpSays) {
     EXPECT_EQ(s.tracer_kind(), "embree");
     EXPECT_EQ(view::apply_key('9', s), view::KeyEffect::none);  // no ninth tracer
     view::apply_key('T', s);
-    EXPECT_EQ(s.tracer_kind(), "rtt");  // wraps
+    EXPECT_EQ(s.tracer_kind(), "rtt");                          // wraps
     EXPECT_EQ(view::apply_key('-', s), view::KeyEffect::none);  // K stays >= 1
     for (int i = 0; i < 20; ++i) view::apply_key('+', s);
     EXPECT_EQ(s.aa, 8);
@@ -124,7 +126,8 @@ TEST(ViewFrames, MovingFramesUseOneSampleAndShadowsOffTracesNoSegments) {
     RenderOptions with = view::frame_options(s, *scene.camera, 64, 48, 1, false, true);
     s.shadows = false;
     RenderOptions without = view::frame_options(s, *scene.camera, 64, 48, 1, false, true);
-    const RenderResult lit = render(scene, *tracer, with), unshadowed = render(scene, *tracer, without);
+    const RenderResult lit = render(scene, *tracer, with),
+                       unshadowed = render(scene, *tracer, without);
     EXPECT_GT(lit.stats.shadow.trace.rays, 0u);
     EXPECT_EQ(unshadowed.stats.shadow.trace.rays, 0u);
     EXPECT_NE(lit.pixels, unshadowed.pixels);  // the room has shadows
@@ -136,13 +139,15 @@ TEST(ViewFrames, MovingFramesUseOneSampleAndShadowsOffTracesNoSegments) {
 
 #ifdef RTT_TEST_HAVE_VIEWER
 /// The headless window runs need Xvfb (Debian's xvfb, installed by scripts/install-deps.sh).
-bool have_xvfb() { return std::system("command -v Xvfb >/dev/null 2>&1") == 0; }
+bool have_xvfb() {
+    return std::system("command -v Xvfb >/dev/null 2>&1") == 0;
+}
 // Mesa's GL driver is loaded and unloaded by GLFW and leaves a few allocations LeakSanitizer
 // cannot name (frames in an unloaded module): the sanitizer build checks leaks everywhere else.
 // Each window run gets an X server of its own, on a display the server picked and announced
 // when ready, stopped after the run (tests/headless.sh).
-const std::string xvfb = "env ASAN_OPTIONS=detect_leaks=0 bash '" +
-                         std::string(RTT_TEST_DATA_DIR) + "/../headless.sh' ";
+const std::string xvfb =
+    "env ASAN_OPTIONS=detect_leaks=0 bash '" + std::string(RTT_TEST_DATA_DIR) + "/../headless.sh' ";
 
 TEST(ViewWindow, ScreenshotEqualsRenderOfTheSameCamera) {
     if (!have_xvfb()) GTEST_SKIP() << "Xvfb not installed";
@@ -156,12 +161,16 @@ TEST(ViewWindow, ScreenshotEqualsRenderOfTheSameCamera) {
         ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
         if (std::string(options).find("no-shadows") != std::string::npos) {
             // No render option turns shadows off: the screenshot must differ from the shadowed one.
-            ASSERT_EQ(run_cli(dir, "render --scene room " + camera + " --size 96x72 -q -o r.png").exit_code, 0);
+            ASSERT_EQ(run_cli(dir, "render --scene room " + camera + " --size 96x72 -q -o r.png")
+                          .exit_code,
+                      0);
             EXPECT_NE(read_text(dir.file("view.png")), read_text(dir.file("r.png")));
             continue;
         }
         const std::string aa = std::string(options).substr(0, 6);
-        ASSERT_EQ(run_cli(dir, "render --scene room " + camera + " --size 96x72 -q -o r.png " + aa).exit_code, 0);
+        ASSERT_EQ(run_cli(dir, "render --scene room " + camera + " --size 96x72 -q -o r.png " + aa)
+                      .exit_code,
+                  0);
         EXPECT_EQ(read_text(dir.file("view.png")), read_text(dir.file("r.png")));
     }
 }
@@ -172,9 +181,10 @@ TEST(ViewWindow, KeysAndMouseMoveTheCamera) {
     TempDir dir("view_input");
     const std::string out = dir.file("out.txt");
     const std::string start_camera = "2,1.5,3,0,0.2,0,0,1,0,50";
-    const std::string cmd = xvfb + "bash '" + std::string(RTT_TEST_DATA_DIR) + "/../view_input.sh' '" +
-                            std::string(RTT_CLI_PATH) + "' '" + out + "' --mesh '" +
-                            std::string(RTT_TEST_DATA_DIR) + "/render_mesh.obj' --camera " + start_camera;
+    const std::string cmd = xvfb + "bash '" + std::string(RTT_TEST_DATA_DIR) +
+                            "/../view_input.sh' '" + std::string(RTT_CLI_PATH) + "' '" + out +
+                            "' --mesh '" + std::string(RTT_TEST_DATA_DIR) +
+                            "/render_mesh.obj' --camera " + start_camera;
     ASSERT_EQ(std::system(cmd.c_str()), 0) << read_text(out);
     // Two cameras printed: the starting one exactly, then one the drag, wheel and W key moved.
     std::istringstream lines(read_text(out));

@@ -19,7 +19,8 @@ const CLI::App* innermost(const CLI::App& app) {
 
 std::string command_path(const CLI::App* app) {
     std::string path;
-    for (const CLI::App* a = app; a; a = a->get_parent()) path = a->get_name() + (path.empty() ? "" : " ") + path;
+    for (const CLI::App* a = app; a; a = a->get_parent())
+        path = a->get_name() + (path.empty() ? "" : " ") + path;
     return path;
 }
 
@@ -65,7 +66,8 @@ size_t edit_distance(const std::string& a, const std::string& b) {
         row[0] = i;
         for (size_t j = 1; j <= b.size(); ++j) {
             const size_t up = row[j];
-            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+            row[j] =
+                std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
             diagonal = up;
         }
     }
@@ -80,14 +82,16 @@ std::string hint_for(const CLI::App& app, const CLI::ParseError& error) {
         for (const std::string& extra : at->remaining()) {
             const bool option = !extra.empty() && extra[0] == '-';
             const std::string word = option ? extra.substr(0, extra.find('=')) : extra;
-            const std::string guess = nearest(word, option ? option_names(at) : subcommand_names(at));
+            const std::string guess =
+                nearest(word, option ? option_names(at) : subcommand_names(at));
             if (!guess.empty()) hints += " Did you mean " + guess + " instead of " + word + "?";
         }
         return hints + help;
     }
     if (dynamic_cast<const CLI::RequiredError*>(&error) && at->get_require_subcommand_min() > 0 &&
         at->get_subcommands().empty())
-        return " '" + command_path(at) + "' needs one of: " + joined(subcommand_names(at)) + "." + help;
+        return " '" + command_path(at) + "' needs one of: " + joined(subcommand_names(at)) + "." +
+               help;
     return help;
 }
 

@@ -3,12 +3,11 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "rtt/error.h"
 
@@ -38,9 +37,8 @@ Vec3f parse_vec3(const std::string& text, const std::string& what) {
     // Every comma separates two items, so "1,2,3," has an empty fourth item and is refused.
     for (;;) {
         const size_t comma = text.find(',', start);
-        const std::string_view item =
-            std::string_view(text).substr(start, comma == std::string::npos ? std::string::npos
-                                                                            : comma - start);
+        const std::string_view item = std::string_view(text).substr(
+            start, comma == std::string::npos ? std::string::npos : comma - start);
         float f = 0.f;
         if (!parse_float(item, f))
             throw Error(what + ": '" + std::string(item) + "' is not a number (expected x,y,z)");
@@ -77,12 +75,14 @@ Camera parse_camera(const std::string& text) {
                 throw Error("");
             v.push_back(f);
         } catch (...) {
-            throw Error("camera: '" + item + "' is not a number (expected px,py,pz,tx,ty,tz,ux,uy,uz,fovy)");
+            throw Error("camera: '" + item +
+                        "' is not a number (expected px,py,pz,tx,ty,tz,ux,uy,uz,fovy)");
         }
     }
     if (v.size() != 10)
-        throw Error("camera: expected 10 comma-separated numbers px,py,pz,tx,ty,tz,ux,uy,uz,fovy, got " +
-                    std::to_string(v.size()));
+        throw Error(
+            "camera: expected 10 comma-separated numbers px,py,pz,tx,ty,tz,ux,uy,uz,fovy, got " +
+            std::to_string(v.size()));
     for (float f : v)
         if (!std::isfinite(f)) throw Error("camera: NaN or infinite value");
     return Camera{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, v[9]};
@@ -111,10 +111,12 @@ Camera json_camera(const nlohmann::json& j) {
     if (!j.is_object() || !j.contains("position") || !j.contains("target"))
         throw Error("a camera is 10 numbers or an object with \"position\" and \"target\"");
     for (const auto& item : j.items())
-        if (item.key() != "position" && item.key() != "target" && item.key() != "up" && item.key() != "fovy")
+        if (item.key() != "position" && item.key() != "target" && item.key() != "up" &&
+            item.key() != "fovy")
             throw Error("unknown camera key \"" + item.key() + "\"");
     Camera c;
-    const std::vector<float> p = numbers(j["position"], 3, "position"), t = numbers(j["target"], 3, "target");
+    const std::vector<float> p = numbers(j["position"], 3, "position"),
+                             t = numbers(j["target"], 3, "target");
     c.position = {p[0], p[1], p[2]};
     c.target = {t[0], t[1], t[2]};
     if (j.contains("up")) {
@@ -168,19 +170,23 @@ std::vector<Camera> read_camera_path(const std::string& path) {
     return cameras;
 }
 
-std::string frame_file_name(const std::string& option, const std::string& pattern, size_t frame, size_t frames) {
+std::string frame_file_name(const std::string& option, const std::string& pattern, size_t frame,
+                            size_t frames) {
     const size_t at = pattern.find('%');
     if (at == std::string::npos) {
         if (frames > 1)
-            throw Error(option + ": " + std::to_string(frames) + " frames need a frame number in the file name, as in " +
+            throw Error(option + ": " + std::to_string(frames) +
+                        " frames need a frame number in the file name, as in " +
                         "frame_%04d.png (got '" + pattern + "')");
         return pattern;
     }
     size_t end = at + 1, width = 0;
     if (end < pattern.size() && pattern[end] == '0') ++end;
-    if (end < pattern.size() && pattern[end] >= '1' && pattern[end] <= '9') width = size_t(pattern[end++] - '0');
+    if (end < pattern.size() && pattern[end] >= '1' && pattern[end] <= '9')
+        width = size_t(pattern[end++] - '0');
     if (end >= pattern.size() || pattern[end] != 'd' || pattern.find('%', end) != std::string::npos)
-        throw Error(option + ": '" + pattern + "': the only '%' directive a file name may hold is one %d or %0Nd");
+        throw Error(option + ": '" + pattern +
+                    "': the only '%' directive a file name may hold is one %d or %0Nd");
     std::string number = std::to_string(frame);
     if (number.size() < width) number.insert(0, width - number.size(), '0');
     return pattern.substr(0, at) + number + pattern.substr(end + 1);

@@ -26,13 +26,14 @@ Camera parse_camera(const std::string& text);
 
 /// Reads a camera path: one camera per line as parse_camera takes it (blank lines and lines
 /// starting with '#' are skipped), or, when the file starts with '[', a JSON list of cameras,
-/// each the 10 numbers as an array or an object with the scene format's camera keys. Throws rtt::Error "file:line: ..." on a bad line, or when
-/// the file is missing or holds no camera.
+/// each the 10 numbers as an array or an object with the scene format's camera keys. Throws
+/// rtt::Error "file:line: ..." on a bad line, or when the file is missing or holds no camera.
 std::vector<Camera> read_camera_path(const std::string& path);
 
 /// `pattern` with its frame number directive (%d, or %0Nd with N <= 9) replaced by `frame`;
 /// `pattern` itself when it has none and `frames` is 1. Throws rtt::Error naming `option` when
 /// several frames would share one name, or for any other '%' directive.
-std::string frame_file_name(const std::string& option, const std::string& pattern, size_t frame, size_t frames);
+std::string frame_file_name(const std::string& option, const std::string& pattern, size_t frame,
+                            size_t frames);
 
 }  // namespace rtt

@@ -1,17 +1,17 @@
 // `rtt bench`: the paper's experiments (section 4) and Embree, on the same rays, one command each.
 #include <chrono>
-#include <filesystem>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <optional>
 #include <sstream>
 
+#include "commands.h"
 #include "experiments/experiments.h"
 #include "experiments/results_doc.h"
 #include "experiments/workload.h"
-#include "commands.h"
 #include "mpi_render.h"
 #include "rtt/error.h"
 #include "rtt/io.h"
@@ -54,9 +54,10 @@ void run_here(const bench::BenchConfig& config, bench::SceneCache& scenes,
               const std::function<void()>& save, std::chrono::steady_clock::time_point start) {
     for (size_t i = 0; i < experiments.size(); ++i) {
         if (experiments.size() > 1) {
-            std::printf("\nrtt bench: experiment %zu of %zu, %.0f s into the run\n", i + 1,
-                        experiments.size(),
-                        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+            std::printf(
+                "\nrtt bench: experiment %zu of %zu, %.0f s into the run\n", i + 1,
+                experiments.size(),
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
             std::fflush(stdout);
         }
         doc.experiments.push_back(experiments[i](config, scenes));
@@ -152,10 +153,10 @@ void run(const BenchArgs& args, const std::vector<Experiment>& experiments) {
     doc.clock = config.clock;
     if (mpi_rank() == 0)
         std::printf(
-        "rtt bench: %s mode, %d repetition(s), %d thread(s); %s, %s, commit %s, load %.2f\n",
-        bench::mode_name(config.mode), config.repetitions, config.threads,
-        doc.machine.cpu_model.c_str(), doc.machine.isa.c_str(), doc.machine.git_commit.c_str(),
-        doc.machine.load_average);
+            "rtt bench: %s mode, %d repetition(s), %d thread(s); %s, %s, commit %s, load %.2f\n",
+            bench::mode_name(config.mode), config.repetitions, config.threads,
+            doc.machine.cpu_model.c_str(), doc.machine.isa.c_str(), doc.machine.git_commit.c_str(),
+            doc.machine.load_average);
     std::fflush(stdout);
 
     // The outputs are rewritten after every experiment, so that a long run stopped halfway
@@ -180,9 +181,9 @@ void run(const BenchArgs& args, const std::vector<Experiment>& experiments) {
             (std::filesystem::path(tree_dir) / std::filesystem::path(name).stem()).string() +
             ".kdtree";
         if (!args.save_trees.empty()) std::filesystem::create_directories(tree_dir);
-        return make_tree(TreeArgs{args.save_trees.empty() ? "" : file,
-                                  args.load_trees.empty() ? "" : file},
-                         scene);
+        return make_tree(
+            TreeArgs{args.save_trees.empty() ? "" : file, args.load_trees.empty() ? "" : file},
+            scene);
     });
     config.start = start;
     if (mpi_distributed()) {
@@ -223,12 +224,16 @@ void add_bench_command(CLI::App& app) {
     bench->add_flag("--quick", args->quick, "Smoke run: tiny images, 1 repetition");
     bench->add_flag("--long", args->long_run,
                     "Every experiment at the paper's / issue's exact size");
-    bench->add_option("--threads", args->threads, "Tracing threads (default 1: the paper measures one core, and ratios of tracers are steadiest on one; `rtt render` uses all cores)")
+    bench
+        ->add_option("--threads", args->threads,
+                     "Tracing threads (default 1: the paper measures one core, and ratios of "
+                     "tracers are steadiest on one; `rtt render` uses all cores)")
         ->capture_default_str();
     bench->add_option("--reps", args->repetitions, "Timed repetitions (default 3; 1 with --quick)");
-    bench->add_option("--region", args->region,
-                      "Pixels per side of the tiles handed to the tracers, as `rtt render "
-                      "--region` (0 = the renderer's default for each K)")
+    bench
+        ->add_option("--region", args->region,
+                     "Pixels per side of the tiles handed to the tracers, as `rtt render "
+                     "--region` (0 = the renderer's default for each K)")
         ->capture_default_str();
     bench->add_option("--scenes", args->scenes, "Comma-separated built-in scenes or scene files")
         ->capture_default_str();
@@ -237,12 +242,13 @@ void add_bench_command(CLI::App& app) {
     bench->add_option("--json", args->json, "Write every figure and the machine details as JSON");
     bench->add_option("--markdown", args->markdown,
                       "Write the results as Markdown (docs/RESULTS.md)");
-    auto* save_trees = bench->add_option(
-        "--save-tree", args->save_trees,
-        "Write each scene's kd-tree to DIR/<scene>.kdtree after building it");
-    bench->add_option("--load-tree", args->load_trees,
-                      "Load each scene's kd-tree from DIR/<scene>.kdtree (written by --save-tree) "
-                      "instead of building it")
+    auto* save_trees =
+        bench->add_option("--save-tree", args->save_trees,
+                          "Write each scene's kd-tree to DIR/<scene>.kdtree after building it");
+    bench
+        ->add_option("--load-tree", args->load_trees,
+                     "Load each scene's kd-tree from DIR/<scene>.kdtree (written by --save-tree) "
+                     "instead of building it")
         ->excludes(save_trees);
     bench->add_option("--clock", args->clock, "Single-thread clock: cpu or wall")
         ->capture_default_str();

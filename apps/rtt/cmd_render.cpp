@@ -68,7 +68,8 @@ void write_image(const std::string& path, const std::string& ext, const RenderJo
         for (size_t i = 0; i < n; ++i) {
             if (r.first_triangle[i] == invalid_triangle) continue;
             const TriangleIndices& t = scene.triangles[r.first_triangle[i]];
-            const Vec3f c = cross(scene.vertices[t[1]] - scene.vertices[t[0]], scene.vertices[t[2]] - scene.vertices[t[0]]);
+            const Vec3f c = cross(scene.vertices[t[1]] - scene.vertices[t[0]],
+                                  scene.vertices[t[2]] - scene.vertices[t[0]]);
             const float len = length(c);
             if (!(len > 0.f)) continue;
             for (int k = 0; k < 3; ++k) normal[k][i] = c[k] / len;
@@ -181,7 +182,8 @@ RenderJobResult run_render_job(const RenderJob& job) {
     opt.progress = !job.quiet;
     for (const std::string& a : job.aovs)
         if (std::find(aov_names().begin(), aov_names().end(), a) == aov_names().end())
-            throw Error("--aov: unknown output variable '" + a + "' (known: " + joined(aov_names()) + ")");
+            throw Error("--aov: unknown output variable '" + a +
+                        "' (known: " + joined(aov_names()) + ")");
     if (!job.aovs.empty() && extension_of(job.image) != ".exr")
         throw Error("--aov writes EXR layers: give -o FILE.exr");
     opt.pixel_hits = job.wants_aov("depth") || job.wants_aov("normal") || job.wants_aov("triangle");
@@ -201,7 +203,8 @@ RenderJobResult run_render_job(const RenderJob& job) {
                              const std::vector<std::string>& extensions = {}) {
             if (pattern.empty()) return;
             // Names are patterns only for a camera path; otherwise taken as given.
-            outputs.add(option, path.empty() ? pattern : frame_file_name(option, pattern, frame, frames),
+            outputs.add(option,
+                        path.empty() ? pattern : frame_file_name(option, pattern, frame, frames),
                         extensions);
         };
         add("-o", job.image, image_extensions());
@@ -249,7 +252,8 @@ RenderJobResult run_render_job(const RenderJob& job) {
         const render_detail::ProgressBar progress(
             0, !job.quiet && writer,
             job.tree.load.empty() ? "building the kd-tree" : "loading the kd-tree");
-        return share_tree(scene, [&] { return make_tree(job.tree, scene); }, job.rank_timeout);
+        return share_tree(
+            scene, [&] { return make_tree(job.tree, scene); }, job.rank_timeout);
     }();
     out.kd_build_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count();
@@ -291,13 +295,13 @@ RenderJobResult run_render_job(const RenderJob& job) {
     for (size_t frame = 0; frame < frames; ++frame) {
         opt = options_of(opt, frame);
         out.ranks.clear();
-        out.result = mpi_distributed() ? render_distributed(scene, *tracer, opt, &out.ranks, job.rank_timeout)
-                                       : render(scene, *tracer, opt);
+        out.result = mpi_distributed()
+                         ? render_distributed(scene, *tracer, opt, &out.ranks, job.rank_timeout)
+                         : render(scene, *tracer, opt);
         if (writer) write_frame(frame);
     }
     return out;
 }
-
 
 void add_render_command(CLI::App& app) {
     auto job = std::make_shared<RenderJob>();
@@ -306,7 +310,8 @@ void add_render_command(CLI::App& app) {
     cmd->footer(
         "Rays, sample order and buffer layouts follow CONVENTIONS (see README, \"Command line\").\n"
         "--mesh renders the file's geometry and materials (grey where it has none), not its\n"
-        "cameras or lights: without --camera the camera looks at the bounding box from a diagonal,\n"
+        "cameras or lights: without --camera the camera looks at the bounding box from a "
+        "diagonal,\n"
         "and without --light one omni light sits at the camera. `rtt render FILE` keeps them.\n"
         "Each --light x,y,z is a white omni light of intensity 0.5 * d^2 / n (d = scene "
         "bounding-box\n"
@@ -334,15 +339,19 @@ void add_render_command(CLI::App& app) {
         "--tracer", job->tracer,
         "Tracer: " + joined(tracer_kinds()) + " (default: " + default_tracer_kind() + ")");
     CLI::Option* threads =
-        cmd->add_option("--threads", job->threads, "Worker threads (default: all cores; results do not depend on it. `rtt bench` defaults to 1 to time one core)");
+        cmd->add_option("--threads", job->threads,
+                        "Worker threads (default: all cores; results do not depend on it. `rtt "
+                        "bench` defaults to 1 to time one core)");
     cmd->add_option("--max-depth", job->max_depth, "Mirror reflection depth (0 = no reflections)")
         ->capture_default_str();
-    cmd->add_option("-o,--output", job->image,
-                    "Image file, format by extension: .png (8-bit sRGB), .exr (linear float RGB and "
-                    "--aov layers), .pfm (linear float), .ppm. Without any output option: <scene>.png");
-    cmd->add_option("--aov", job->aovs,
-                    "Extra EXR layers (comma-separated): depth (t of each pixel's first sample), normal "
-                    "(its triangle's unit normal), triangle (its id), rtt (share of samples RTT answered)")
+    cmd->add_option(
+        "-o,--output", job->image,
+        "Image file, format by extension: .png (8-bit sRGB), .exr (linear float RGB and "
+        "--aov layers), .pfm (linear float), .ppm. Without any output option: <scene>.png");
+    cmd->add_option(
+           "--aov", job->aovs,
+           "Extra EXR layers (comma-separated): depth (t of each pixel's first sample), normal "
+           "(its triangle's unit normal), triangle (its id), rtt (share of samples RTT answered)")
         ->delimiter(',');
     cmd->add_option("--hits", job->hits, "Write the RTTH hit buffer (closest triangle per sample)");
     cmd->add_option("--shadows", job->shadows,
@@ -374,7 +383,9 @@ void add_render_command(CLI::App& app) {
                 job->image.insert(job->image.size() - 4, "_%04d");  // before ".png"
         }
         run_render_job(*job);
-        if (defaulted && mpi_rank() == 0) std::printf("rtt: wrote %s (choose outputs with -o, --hits, --shadows, --stats)\n", job->image.c_str());
+        if (defaulted && mpi_rank() == 0)
+            std::printf("rtt: wrote %s (choose outputs with -o, --hits, --shadows, --stats)\n",
+                        job->image.c_str());
     });
 }
 

@@ -1,8 +1,8 @@
 // `rtt` with no arguments: the README's main job.
 #include <cstdio>
 
-#include "experiments/experiments.h"
 #include "commands.h"
+#include "experiments/experiments.h"
 #include "render_job.h"
 #include "stats_report.h"
 

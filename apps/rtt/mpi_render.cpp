@@ -1,7 +1,5 @@
 #include "mpi_render.h"
 
-#include "result_bytes.h"
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -13,6 +11,7 @@
 #include <thread>
 
 #include "render/progress.h"
+#include "result_bytes.h"
 #include "rtt/error.h"
 
 #ifdef RTT_HAVE_MPI
@@ -25,18 +24,26 @@ namespace rtt::cli {
 
 void mpi_start(int&, char**&) {}
 void mpi_finish() {}
-bool mpi_distributed() { return false; }
-int mpi_rank() { return 0; }
-int mpi_size() { return 1; }
+bool mpi_distributed() {
+    return false;
+}
+int mpi_rank() {
+    return 0;
+}
+int mpi_size() {
+    return 1;
+}
 void mpi_abort(const std::string& message) {
     std::fprintf(stderr, "rtt: error: %s\n", message.c_str());
     std::exit(1);
 }
-RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const RenderOptions& options,
-                                std::vector<RankStats>*, double) {
+RenderResult render_distributed(const Scene& scene, const Tracer& tracer,
+                                const RenderOptions& options, std::vector<RankStats>*, double) {
     return render(scene, tracer, options);
 }
-KdTree share_tree(const Scene&, const std::function<KdTree()>& build, double) { return build(); }
+KdTree share_tree(const Scene&, const std::function<KdTree()>& build, double) {
+    return build();
+}
 void distribute_items(size_t count, const std::function<std::vector<char>(size_t)>& work,
                       const std::function<void(size_t, std::vector<char>&)>& done,
                       std::vector<RankStats>*, double, uint64_t) {
@@ -56,7 +63,9 @@ int world_rank = 0, world_size = 1;
 enum Tag : int { request = 1, band = 2, result_header = 3, result_data = 4 };
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+double seconds_since(Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+}
 
 /// Sums the ray statistics of every rank on rank 0 (counts are sums over tiles, so they equal
 /// a one-process run's).
@@ -73,14 +82,15 @@ void reduce_stats(RenderStats& s) {
     counts.insert(counts.end(), s.rays_by_depth.begin(), s.rays_by_depth.end());
     std::vector<uint64_t> counts_sum(counts.size());
     std::vector<double> seconds_sum(seconds.size());
-    MPI_Reduce(counts.data(), counts_sum.data(), int(counts.size()), MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
-    MPI_Reduce(seconds.data(), seconds_sum.data(), int(seconds.size()), MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+    MPI_Reduce(counts.data(), counts_sum.data(), int(counts.size()), MPI_UINT64_T, MPI_SUM, 0,
+               MPI_COMM_WORLD);
+    MPI_Reduce(seconds.data(), seconds_sum.data(), int(seconds.size()), MPI_DOUBLE, MPI_SUM, 0,
+               MPI_COMM_WORLD);
     if (world_rank != 0) return;
     size_t i = 0;
     for (int k = 0; k < 3; ++k) {
         TraceStats& t = kinds[k]->trace;
-        for (uint64_t* field : t.counters())
-            *field = counts_sum[i++];
+        for (uint64_t* field : t.counters()) *field = counts_sum[i++];
         kinds[k]->seconds = seconds_sum[size_t(k)];
     }
     for (uint64_t& d : s.rays_by_depth) d = counts_sum[i++];
@@ -92,7 +102,9 @@ void reduce_stats(RenderStats& s) {
 class Watchdog {
 public:
     explicit Watchdog(double timeout)
-        : timeout_(timeout), held_(size_t(world_size)), since_(size_t(world_size), Clock::now()),
+        : timeout_(timeout),
+          held_(size_t(world_size)),
+          since_(size_t(world_size), Clock::now()),
           done_(size_t(world_size), false) {}
 
     /// Rank r got work described by `what` ("pixel rows 384..", "frame 3"); empty = no more.
@@ -137,9 +149,9 @@ private:
 
 /// Rank 0's dispatcher loop (the only thread of rank 0 that calls MPI while it renders): hands
 /// out work on request with give(item), which describes it ("frame 3"; "" when none is left),
-/// passes results to receive(header, bytes), until every other rank was told there is no more. Polls
-/// and sleeps rather than blocks: Open MPI's blocking receive spins, and a spinning dispatcher
-/// would take a core from rank 0's render threads.
+/// passes results to receive(header, bytes), until every other rank was told there is no more.
+/// Polls and sleeps rather than blocks: Open MPI's blocking receive spins, and a spinning
+/// dispatcher would take a core from rank 0's render threads.
 using Give = std::function<std::string(int (&item)[2])>;
 using Receive = std::function<void(const int (&header)[2], std::vector<char>& bytes)>;
 
@@ -171,7 +183,8 @@ void dispatch(Watchdog& watchdog, const std::atomic<bool>& rank0_idle, const Giv
             MPI_Probe(from, result_data, MPI_COMM_WORLD, &data_status);
             MPI_Get_count(&data_status, MPI_BYTE, &size);
             bytes.resize(size_t(size));
-            MPI_Recv(bytes.data(), size, MPI_BYTE, from, result_data, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+            MPI_Recv(bytes.data(), size, MPI_BYTE, from, result_data, MPI_COMM_WORLD,
+                     MPI_STATUS_IGNORE);
             watchdog.returned(from);
             receive(header, bytes);
         }
@@ -224,14 +237,17 @@ void gather_rank_stats(const RankStats& mine, std::vector<RankStats>* ranks) {
 
 void mpi_start(int& argc, char**& argv) {
     // Only under a launcher: a plain `rtt` must not need an MPI runtime to start.
-    if (!std::getenv("OMPI_COMM_WORLD_SIZE") && !std::getenv("PMI_SIZE") && !std::getenv("PMIX_RANK")) return;
+    if (!std::getenv("OMPI_COMM_WORLD_SIZE") && !std::getenv("PMI_SIZE") &&
+        !std::getenv("PMIX_RANK"))
+        return;
     int provided = 0;
     MPI_Init_thread(&argc, &argv, MPI_THREAD_SERIALIZED, &provided);
     started = true;
     MPI_Comm_rank(MPI_COMM_WORLD, &world_rank);
     MPI_Comm_size(MPI_COMM_WORLD, &world_size);
     if (world_size > 1 && provided < MPI_THREAD_SERIALIZED)
-        mpi_abort("this MPI library cannot be called from a dispatcher thread (MPI_THREAD_SERIALIZED)");
+        mpi_abort(
+            "this MPI library cannot be called from a dispatcher thread (MPI_THREAD_SERIALIZED)");
 }
 
 void mpi_finish() {
@@ -239,12 +255,19 @@ void mpi_finish() {
     started = false;
 }
 
-bool mpi_distributed() { return world_size > 1; }
-int mpi_rank() { return world_rank; }
-int mpi_size() { return world_size; }
+bool mpi_distributed() {
+    return world_size > 1;
+}
+int mpi_rank() {
+    return world_rank;
+}
+int mpi_size() {
+    return world_size;
+}
 
 void mpi_abort(const std::string& message) {
-    std::fprintf(stderr, "rtt: error: rank %d of %d: %s\n", world_rank, world_size, message.c_str());
+    std::fprintf(stderr, "rtt: error: rank %d of %d: %s\n", world_rank, world_size,
+                 message.c_str());
     std::fflush(stderr);
     if (started) MPI_Abort(MPI_COMM_WORLD, 1);
     std::exit(1);
@@ -262,7 +285,8 @@ void wait_quietly(MPI_Request& request, double timeout_seconds) {
         MPI_Test(&request, &done, MPI_STATUS_IGNORE);
         if (done) return;
         if (world_rank == 0 && seconds_since(start) > timeout_seconds)
-            mpi_abort("a rank has not taken the kd-tree after " + std::to_string(int(timeout_seconds)) +
+            mpi_abort("a rank has not taken the kd-tree after " +
+                      std::to_string(int(timeout_seconds)) +
                       " s (hung while loading?; --rank-timeout)");
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
@@ -270,7 +294,8 @@ void wait_quietly(MPI_Request& request, double timeout_seconds) {
 
 }  // namespace
 
-KdTree share_tree(const Scene& scene, const std::function<KdTree()>& build, double timeout_seconds) {
+KdTree share_tree(const Scene& scene, const std::function<KdTree()>& build,
+                  double timeout_seconds) {
     if (world_size < 2) return build();
     KdTree tree;
     std::vector<char> bytes;
@@ -285,8 +310,9 @@ KdTree share_tree(const Scene& scene, const std::function<KdTree()>& build, doub
     MPI_Ibcast(header, 2, MPI_UINT64_T, 0, MPI_COMM_WORLD, &request);
     wait_quietly(request, timeout_seconds);
     if (header[1] != mine)
-        mpi_abort("this rank's scene is not rank 0's (the geometry differs; every rank must load "
-                  "the same file)");
+        mpi_abort(
+            "this rank's scene is not rank 0's (the geometry differs; every rank must load "
+            "the same file)");
     bytes.resize(header[0]);
     // MPI counts are ints: the tree goes in pieces of at most 1 GiB.
     for (uint64_t offset = 0; offset < header[0]; offset += uint64_t(1) << 30) {
@@ -297,8 +323,9 @@ KdTree share_tree(const Scene& scene, const std::function<KdTree()>& build, doub
     return world_rank == 0 ? tree : unpack_tree(bytes);
 }
 
-RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const RenderOptions& options,
-                                std::vector<RankStats>* ranks, double timeout_seconds) {
+RenderResult render_distributed(const Scene& scene, const Tracer& tracer,
+                                const RenderOptions& options, std::vector<RankStats>* ranks,
+                                double timeout_seconds) {
     options.validate(scene.lights.size());
     const int tiles_x = (options.width + 3) / 4, tiles_y = (options.height + 3) / 4;
     // About 8 bands per rank: small enough to balance, large enough that a band's tiles keep a
@@ -325,19 +352,22 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const 
         };
         serve_while(
             timeout_seconds,
-            [&](int (&item)[2]) {
-                return take_band(item[0], item[1]) ? "pixel rows " + std::to_string(4 * item[0]) + ".."
-                                                   : std::string();
+            [&](int(&item)[2]) {
+                return take_band(item[0], item[1])
+                           ? "pixel rows " + std::to_string(4 * item[0]) + ".."
+                           : std::string();
             },
-            [&](const int (&header)[2], std::vector<char>& bytes) {
+            [&](const int(&header)[2], std::vector<char>& bytes) {
                 unpack(bytes.data(), whole, header[0], BandLayout(options, header[1]));
                 progress.advance(uint64_t(header[1] + 3) / 4);
             },
             [&] {
                 const auto busy_start = Clock::now();
                 stats = render_bands(scene, tracer, local, take_band, [&](RenderResult& band) {
-                    // Rank 0's own bands go straight into the image (other rows than the dispatcher's).
-                    unpack(pack(band).data(), whole, band.first_row, BandLayout(options, band.rows));
+                    // Rank 0's own bands go straight into the image (other rows than the
+                    // dispatcher's).
+                    unpack(pack(band).data(), whole, band.first_row,
+                           BandLayout(options, band.rows));
                     progress.advance(uint64_t(band.rows + 3) / 4);
                     mine.tiles += uint64_t(band.rows + 3) / 4 * uint64_t(tiles_x);
                 });
@@ -346,17 +376,20 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const 
     } else {
         double busy = 0;
         auto band_start = Clock::now();
-        stats = render_bands(scene, tracer, local, [&](int& first, int& count) {
-            int item[2];
-            const bool more = ask(item);
-            first = item[0], count = item[1];
-            band_start = Clock::now();
-            return more;
-        }, [&](RenderResult& band) {
-            busy += seconds_since(band_start);
-            mine.tiles += uint64_t((band.rows + 3) / 4) * uint64_t(tiles_x);
-            send_result({band.first_row, band.rows}, pack(band));
-        });
+        stats = render_bands(
+            scene, tracer, local,
+            [&](int& first, int& count) {
+                int item[2];
+                const bool more = ask(item);
+                first = item[0], count = item[1];
+                band_start = Clock::now();
+                return more;
+            },
+            [&](RenderResult& band) {
+                busy += seconds_since(band_start);
+                mine.tiles += uint64_t((band.rows + 3) / 4) * uint64_t(tiles_x);
+                send_result({band.first_row, band.rows}, pack(band));
+            });
         mine.busy_seconds = busy;
     }
     mine.idle_seconds = std::max(0.0, seconds_since(start) - mine.busy_seconds);
@@ -370,7 +403,8 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const 
 
 void distribute_items(size_t count, const std::function<std::vector<char>(size_t)>& work,
                       const std::function<void(size_t, std::vector<char>&)>& done,
-                      std::vector<RankStats>* ranks, double timeout_seconds, uint64_t tiles_per_item) {
+                      std::vector<RankStats>* ranks, double timeout_seconds,
+                      uint64_t tiles_per_item) {
     RankStats mine{world_rank, 0, 0, 0};
     const auto start = Clock::now();
     const auto run = [&](size_t item) {
@@ -393,12 +427,14 @@ void distribute_items(size_t count, const std::function<std::vector<char>(size_t
         };
         serve_while(
             timeout_seconds,
-            [&](int (&item)[2]) {
+            [&](int(&item)[2]) {
                 const size_t i = next.fetch_add(1);
                 item[0] = i < count ? int(i) : -1;
                 return i < count ? "item " + std::to_string(i) : std::string();
             },
-            [&](const int (&header)[2], std::vector<char>& bytes) { finish(size_t(header[0]), bytes); },
+            [&](const int(&header)[2], std::vector<char>& bytes) {
+                finish(size_t(header[0]), bytes);
+            },
             [&] {
                 for (size_t i; (i = next.fetch_add(1)) < count;) {
                     std::vector<char> bytes = run(i);

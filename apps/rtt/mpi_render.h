@@ -1,9 +1,9 @@
 // Rendering across machines with MPI (README, "Distributed rendering"): started by mpirun with
 // several ranks, every rank loads the scene and builds its tree; rank 0 hands out bands of tile
-// rows (or, for camera paths, whole frames) on demand (a dispatcher thread answers requests while rank 0 renders bands too), the
-// other ranks render them with their own threads and send them back, and rank 0 assembles the
-// image and buffers, bit for bit what one process renders, and writes every output.
-// Without MPI in the build, or without mpirun, nothing here changes a run.
+// rows (or, for camera paths, whole frames) on demand (a dispatcher thread answers requests while
+// rank 0 renders bands too), the other ranks render them with their own threads and send them back,
+// and rank 0 assembles the image and buffers, bit for bit what one process renders, and writes
+// every output. Without MPI in the build, or without mpirun, nothing here changes a run.
 #pragma once
 
 #include <cstdint>
@@ -46,17 +46,17 @@ KdTree share_tree(const Scene& scene, const std::function<KdTree()>& build,
 /// What one rank did in a distributed render: the load balance.
 struct RankStats {
     int rank = 0;
-    uint64_t tiles = 0;        ///< 4x4-pixel tiles it rendered.
-    double busy_seconds = 0;   ///< Wall time rendering its bands.
-    double idle_seconds = 0;   ///< Wall time waiting for bands or for the others to finish.
+    uint64_t tiles = 0;       ///< 4x4-pixel tiles it rendered.
+    double busy_seconds = 0;  ///< Wall time rendering its bands.
+    double idle_seconds = 0;  ///< Wall time waiting for bands or for the others to finish.
 };
-
 
 /// render() distributed over the ranks. Every rank must call it with the same scene and options.
 /// Rank 0 gets the whole result, with the ray statistics summed over the ranks, and (if
 /// `ranks`) every rank's RankStats; other ranks get an empty result. A rank silent for longer
 /// than max(timeout_seconds, 10x the slowest band so far) ends the job (mpi_abort naming it).
-RenderResult render_distributed(const Scene& scene, const Tracer& tracer, const RenderOptions& options,
+RenderResult render_distributed(const Scene& scene, const Tracer& tracer,
+                                const RenderOptions& options,
                                 std::vector<RankStats>* ranks = nullptr,
                                 double timeout_seconds = default_rank_timeout);
 

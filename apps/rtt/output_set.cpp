@@ -38,7 +38,8 @@ fs::path identity(const std::string& path) {
 
 std::string extension_of(const std::string& path) {
     std::string e = fs::path(path).extension().string();
-    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    std::transform(e.begin(), e.end(), e.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
     return e;
 }
 
@@ -47,8 +48,8 @@ void OutputSet::add(const std::string& option, const std::string& path,
     if (path.empty()) throw Error(option + ": empty file name");
     if (!extensions.empty() &&
         std::find(extensions.begin(), extensions.end(), extension_of(path)) == extensions.end())
-        throw Error(option + ": cannot write '" + path + "': unknown extension '" + extension_of(path) +
-                    "' (this option writes " + joined(extensions) + ")");
+        throw Error(option + ": cannot write '" + path + "': unknown extension '" +
+                    extension_of(path) + "' (this option writes " + joined(extensions) + ")");
     for (const Entry& e : entries_)
         if (identity(e.path) == identity(path))
             throw Error(option + ": '" + path + "' is also the file of " + e.option +
@@ -61,18 +62,23 @@ void OutputSet::check_writable() const {
         const std::string prefix = e.option + ": cannot write " + e.path + ": ";
         const fs::path folder = folder_of(e.path);
         std::error_code ec;
-        if (!fs::is_directory(folder, ec)) throw Error(prefix + "folder " + folder.string() + " does not exist");
+        if (!fs::is_directory(folder, ec))
+            throw Error(prefix + "folder " + folder.string() + " does not exist");
         if (fs::is_directory(e.path, ec)) throw Error(prefix + "it is a folder");
         // Asked of the system rather than probed with a file: a run killed right after a probe
         // was created would leave it behind.
         if (::faccessat(AT_FDCWD, folder.c_str(), W_OK | X_OK, AT_EACCESS) != 0)
-            throw Error(prefix + "folder " + folder.string() + " is not writable (" + std::strerror(errno) + ")");
+            throw Error(prefix + "folder " + folder.string() + " is not writable (" +
+                        std::strerror(errno) + ")");
     }
 }
 
-void OutputSet::write(const std::string& path, const std::function<void(const std::string&)>& write) {
-    auto it = std::find_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.path == path; });
-    if (it == entries_.end()) throw Error("internal: output " + path + " was not checked before the work");
+void OutputSet::write(const std::string& path,
+                      const std::function<void(const std::string&)>& write) {
+    auto it = std::find_if(entries_.begin(), entries_.end(),
+                           [&](const Entry& e) { return e.path == path; });
+    if (it == entries_.end())
+        throw Error("internal: output " + path + " was not checked before the work");
     // Hidden, in the same folder, so the final rename is atomic.
     std::string name(".");  // appended, not "." + ...: GCC 12 warns falsely (-Wrestrict) on that
     name += fs::path(path).filename().string();

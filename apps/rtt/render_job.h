@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "mpi_render.h"
 #include "rtt/kdtree.h"
 #include "rtt/render.h"
-#include "mpi_render.h"
 #include "scene_args.h"
 #include "tree_args.h"
 
@@ -16,8 +16,8 @@ namespace rtt::cli {
 
 struct RenderJob {
     SceneArgs scene;
-    TreeArgs tree;  ///< --save-tree, --load-tree
-    std::string camera;  ///< "px,py,pz,tx,ty,tz,ux,uy,uz,fovy"; empty = scene's or default.
+    TreeArgs tree;            ///< --save-tree, --load-tree
+    std::string camera;       ///< "px,py,pz,tx,ty,tz,ux,uy,uz,fovy"; empty = scene's or default.
     std::string camera_path;  ///< --camera-path FILE: one camera per line, a frame each.
     std::string size = "640x480";  ///< "WxH".
     int aa = 1;
@@ -26,7 +26,7 @@ struct RenderJob {
     std::string tracer;               ///< Empty = default_tracer_kind().
     int threads = 0;                  ///< 0 = all cores.
     int max_depth = 4;
-    std::string image;        ///< -o: .png (8-bit sRGB), .exr (linear float + AOVs), .pfm, .ppm.
+    std::string image;  ///< -o: .png (8-bit sRGB), .exr (linear float + AOVs), .pfm, .ppm.
     std::vector<std::string> aovs;  ///< --aov: depth, normal, triangle, rtt (EXR layers).
     bool wants_aov(const std::string& name) const {
         return std::find(aovs.begin(), aovs.end(), name) != aovs.end();

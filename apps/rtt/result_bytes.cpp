@@ -36,7 +36,8 @@ std::vector<char> pack(const RenderResult& b) {
 }
 
 void unpack(const char* p, RenderResult& whole, int first_row, const BandLayout& band) {
-    const size_t px = size_t(first_row) * size_t(whole.width), spp = size_t(whole.aa) * size_t(whole.aa);
+    const size_t px = size_t(first_row) * size_t(whole.width),
+                 spp = size_t(whole.aa) * size_t(whole.aa);
     take(p, whole.pixels, px, band.pixels);
     take(p, whole.hits, px * spp, band.samples);
     take(p, whole.shadows, px * spp, band.samples);
@@ -47,8 +48,10 @@ void unpack(const char* p, RenderResult& whole, int first_row, const BandLayout&
 }
 
 void allocate_whole(RenderResult& out, const RenderOptions& o) {
-    const size_t pixels = size_t(o.width) * size_t(o.height), samples = pixels * size_t(o.aa) * size_t(o.aa);
-    out.width = o.width, out.height = o.height, out.aa = o.aa, out.first_row = 0, out.rows = o.height;
+    const size_t pixels = size_t(o.width) * size_t(o.height),
+                 samples = pixels * size_t(o.aa) * size_t(o.aa);
+    out.width = o.width, out.height = o.height, out.aa = o.aa, out.first_row = 0,
+    out.rows = o.height;
     out.pixels.resize(pixels);
     if (o.hits_buffer) out.hits.resize(samples);
     if (o.shadow_buffer) out.shadows.resize(samples);
@@ -84,8 +87,7 @@ void unpack_stats(const char* p, RenderStats& s) {
     KindStats* kinds[3] = {&s.primary, &s.shadow, &s.secondary};
     for (int k = 0; k < 3; ++k) {
         TraceStats& t = kinds[k]->trace;
-        for (uint64_t* field : t.counters())
-            *field = counts[i++];
+        for (uint64_t* field : t.counters()) *field = counts[i++];
         kinds[k]->seconds = values[size_t(k)];
     }
     for (uint64_t& d : s.rays_by_depth) d = counts[i++];
@@ -101,11 +103,12 @@ std::vector<char> pack_tree(const KdTree& tree) {
     std::vector<char> bytes(sizeof sizes + sizeof tree.bounds + sizeof tree.stats + node_bytes +
                             tree.leaf_triangles.size() * sizeof(uint32_t));
     char* p = bytes.data();
-    for (const auto& [data, size] : {std::pair<const void*, size_t>{sizes, sizeof sizes},
-                                     {&tree.bounds, sizeof tree.bounds},
-                                     {&tree.stats, sizeof tree.stats},
-                                     {tree.nodes.data(), node_bytes},
-                                     {tree.leaf_triangles.data(), tree.leaf_triangles.size() * sizeof(uint32_t)}}) {
+    for (const auto& [data, size] :
+         {std::pair<const void*, size_t>{sizes, sizeof sizes},
+          {&tree.bounds, sizeof tree.bounds},
+          {&tree.stats, sizeof tree.stats},
+          {tree.nodes.data(), node_bytes},
+          {tree.leaf_triangles.data(), tree.leaf_triangles.size() * sizeof(uint32_t)}}) {
         if (size) std::memcpy(p, data, size);
         p += size;
     }

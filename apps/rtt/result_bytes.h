@@ -1,6 +1,6 @@
 // What travels between ranks in a distributed render (apps/rtt/mpi_render.h): a band's or a
-// whole frame's arrays, a frame's ray statistics and the kd-tree, as bytes in one fixed order. Sizes follow
-// from the render options and the rows, so only the bytes are sent. No MPI here.
+// whole frame's arrays, a frame's ray statistics and the kd-tree, as bytes in one fixed order.
+// Sizes follow from the render options and the rows, so only the bytes are sent. No MPI here.
 #pragma once
 
 #include <cstddef>

@@ -8,17 +8,17 @@
 
 #include "rtt/builtin_scenes.h"
 #include "rtt/camera.h"
-#include "rtt/render.h"
 #include "rtt/error.h"
+#include "rtt/render.h"
 #include "rtt/scene_io.h"
 
 namespace rtt::cli {
 
 void add_scene_options(CLI::App& command, SceneArgs& args) {
-    auto* mesh =
-        command.add_option("--mesh", args.mesh,
-                           "Mesh file in any format assimp reads (OBJ, PLY, OFF, STL, glTF, ...), with "
-                           "its materials; the default camera and light");
+    auto* mesh = command.add_option(
+        "--mesh", args.mesh,
+        "Mesh file in any format assimp reads (OBJ, PLY, OFF, STL, glTF, ...), with "
+        "its materials; the default camera and light");
     auto* scene = command.add_option(
         "--scene", args.scene,
         "Built-in scene name (see `rtt scenes`), JSON scene file, or a mesh file with its own "
@@ -68,8 +68,9 @@ void refuse_repairs_if_strict(const SceneArgs& args, const LoadedScene& loaded) 
 LoadedScene load_scene_quietly(const SceneArgs& args) {
     const int given = int(!args.mesh.empty()) + int(!args.scene.empty()) + int(!args.input.empty());
     if (given != 1)
-        throw Error("give exactly one scene: --mesh FILE, --scene NAME|FILE or the file or name "
-                    "alone");
+        throw Error(
+            "give exactly one scene: --mesh FILE, --scene NAME|FILE or the file or name "
+            "alone");
     if (!args.input.empty())
         return load_scene_quietly(SceneArgs{.scene = args.input, .strict = args.strict});
     LoadedScene out;

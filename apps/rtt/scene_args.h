@@ -13,9 +13,9 @@
 namespace rtt::cli {
 
 struct SceneArgs {
-    std::string mesh;   ///< --mesh FILE
-    std::string scene;  ///< --scene NAME | FILE
-    std::string input;  ///< The positional argument, meaning --scene.
+    std::string mesh;     ///< --mesh FILE
+    std::string scene;    ///< --scene NAME | FILE
+    std::string input;    ///< The positional argument, meaning --scene.
     bool strict = false;  ///< --strict: refuse a file that needed repairs (Scene::warnings).
 
     /// What names the scene (whichever is given), for file names and messages.

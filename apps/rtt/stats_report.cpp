@@ -55,8 +55,7 @@ void print_stats(std::FILE* out, const RenderJobResult& r) {
     std::fprintf(
         out, "%s: %zu triangles, kd-tree %s in %.3f s; tracer %s; %dx%d, %dx%d AA, %d threads\n",
         r.scene_label.c_str(), r.triangles, r.kd_loaded ? "loaded" : "built", r.kd_build_seconds,
-        r.tracer.c_str(), res.width,
-        res.height, res.aa, res.aa, s.threads);
+        r.tracer.c_str(), res.width, res.height, res.aa, res.aa, s.threads);
     if (r.input_warnings)
         std::fprintf(out, "input warnings: %zu (skipped or repaired input, first ones on stderr)\n",
                      r.input_warnings);

@@ -66,12 +66,13 @@ void write_pfm(const std::string& path, int width, int height, std::span<const V
 /// rows top to bottom. Float channels are stored as 32-bit floats, uint ones as 32-bit uints.
 struct ExrChannel {
     std::string name;
-    std::span<const float> floats;      ///< Either floats ...
-    std::span<const uint32_t> uints;    ///< ... or uints, width * height values.
+    std::span<const float> floats;    ///< Either floats ...
+    std::span<const uint32_t> uints;  ///< ... or uints, width * height values.
 };
 
 /// Writes an OpenEXR scanline image (ZIP compression) with the given channels; layers are
 /// channel-name prefixes ("depth.Z"). Whole or not at all, as write_file_atomically.
-void write_exr(const std::string& path, int width, int height, std::span<const ExrChannel> channels);
+void write_exr(const std::string& path, int width, int height,
+               std::span<const ExrChannel> channels);
 
 }  // namespace rtt

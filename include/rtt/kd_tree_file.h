@@ -31,7 +31,6 @@ void save_kd_tree(const std::string& path, const KdTree& tree, const Scene& scen
 /// or config, is truncated or fails its checksum, or holds a node or leaf range out of bounds
 /// or a tree deeper than kd_max_depth: whatever the file holds, traversal of a returned tree
 /// stays in bounds. The statistics are the saved ones; build_seconds is the load time.
-KdTree load_kd_tree(const std::string& path, const Scene& scene,
-                    const KdBuildConfig& config = {});
+KdTree load_kd_tree(const std::string& path, const Scene& scene, const KdBuildConfig& config = {});
 
 }  // namespace rtt

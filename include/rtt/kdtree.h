@@ -49,13 +49,13 @@ struct KdStats {
     double setup_seconds = 0, tree_seconds = 0, layout_seconds = 0;
     size_t binned_nodes = 0;    ///< Inner nodes split on binned (and refined) planes.
     size_t small_subtrees = 0;  ///< Subtrees below them (small nodes' subtrees and leaves).
-    size_t memory_bytes = 0;         ///< Nodes plus leaf triangle lists.
+    size_t memory_bytes = 0;    ///< Nodes plus leaf triangle lists.
 };
 
 struct KdTree {
-    std::vector<KdNode> nodes;          ///< nodes[0] is the root.
+    std::vector<KdNode> nodes;  ///< nodes[0] is the root.
     std::vector<uint32_t> leaf_triangles;
-    Bbox3f bounds;                      ///< Bounds of all triangles.
+    Bbox3f bounds;  ///< Bounds of all triangles.
     KdStats stats;
 };
 

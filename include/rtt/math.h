@@ -25,27 +25,62 @@ struct Vec3f {
     constexpr float& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }
 
     constexpr Vec3f operator-() const { return {-x, -y, -z}; }
-    constexpr Vec3f& operator+=(const Vec3f& o) { x += o.x; y += o.y; z += o.z; return *this; }
-    constexpr Vec3f& operator-=(const Vec3f& o) { x -= o.x; y -= o.y; z -= o.z; return *this; }
-    constexpr Vec3f& operator*=(float s) { x *= s; y *= s; z *= s; return *this; }
+    constexpr Vec3f& operator+=(const Vec3f& o) {
+        x += o.x;
+        y += o.y;
+        z += o.z;
+        return *this;
+    }
+    constexpr Vec3f& operator-=(const Vec3f& o) {
+        x -= o.x;
+        y -= o.y;
+        z -= o.z;
+        return *this;
+    }
+    constexpr Vec3f& operator*=(float s) {
+        x *= s;
+        y *= s;
+        z *= s;
+        return *this;
+    }
     constexpr bool operator==(const Vec3f&) const = default;
 };
 
-constexpr Vec3f operator+(const Vec3f& a, const Vec3f& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-constexpr Vec3f operator-(const Vec3f& a, const Vec3f& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-constexpr Vec3f operator*(const Vec3f& a, const Vec3f& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
-constexpr Vec3f operator*(const Vec3f& a, float s) { return {a.x * s, a.y * s, a.z * s}; }
-constexpr Vec3f operator*(float s, const Vec3f& a) { return {s * a.x, s * a.y, s * a.z}; }
-constexpr Vec3f operator/(const Vec3f& a, float s) { return {a.x / s, a.y / s, a.z / s}; }
+constexpr Vec3f operator+(const Vec3f& a, const Vec3f& b) {
+    return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+constexpr Vec3f operator-(const Vec3f& a, const Vec3f& b) {
+    return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+constexpr Vec3f operator*(const Vec3f& a, const Vec3f& b) {
+    return {a.x * b.x, a.y * b.y, a.z * b.z};
+}
+constexpr Vec3f operator*(const Vec3f& a, float s) {
+    return {a.x * s, a.y * s, a.z * s};
+}
+constexpr Vec3f operator*(float s, const Vec3f& a) {
+    return {s * a.x, s * a.y, s * a.z};
+}
+constexpr Vec3f operator/(const Vec3f& a, float s) {
+    return {a.x / s, a.y / s, a.z / s};
+}
 
-constexpr float dot(const Vec3f& a, const Vec3f& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+constexpr float dot(const Vec3f& a, const Vec3f& b) {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 constexpr Vec3f cross(const Vec3f& a, const Vec3f& b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-inline float length(const Vec3f& a) { return std::sqrt(dot(a, a)); }
+inline float length(const Vec3f& a) {
+    return std::sqrt(dot(a, a));
+}
 /// a / |a|, computed as written (CONVENTIONS: ray directions are normalized this way).
-inline Vec3f normalize(const Vec3f& a) { return a / length(a); }
-inline Vec3f abs(const Vec3f& a) { return {std::fabs(a.x), std::fabs(a.y), std::fabs(a.z)}; }
+inline Vec3f normalize(const Vec3f& a) {
+    return a / length(a);
+}
+inline Vec3f abs(const Vec3f& a) {
+    return {std::fabs(a.x), std::fabs(a.y), std::fabs(a.z)};
+}
 inline Vec3f min(const Vec3f& a, const Vec3f& b) {
     return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)};
 }
@@ -66,8 +101,14 @@ inline int max_abs_axis(const Vec3f& a) {
 struct Bbox3f {
     Vec3f lo{pos_inf}, hi{neg_inf};
 
-    void extend(const Vec3f& p) { lo = min(lo, p); hi = max(hi, p); }
-    void extend(const Bbox3f& b) { lo = min(lo, b.lo); hi = max(hi, b.hi); }
+    void extend(const Vec3f& p) {
+        lo = min(lo, p);
+        hi = max(hi, p);
+    }
+    void extend(const Bbox3f& b) {
+        lo = min(lo, b.lo);
+        hi = max(hi, b.hi);
+    }
     bool empty() const { return !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z); }
     Vec3f diagonal() const { return hi - lo; }
     Vec3f center() const { return (lo + hi) * 0.5f; }

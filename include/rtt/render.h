@@ -29,8 +29,9 @@
 //     parameter is unchanged: E' + t d' is the mirror image of org + t d), and
 //     tmin = t_hit * (1 + delta). A per-tile constant factor keeps the starting points on one
 //     plane (the mirror plane scaled about E' by 1 + delta: the shaft starts at a plane, as
-//     docs/design.md, "Primary and reflected rays"). delta = max(1e-4, 32 eps (|E|max + |E'|max + t_max) / t_min) so that
-//     rounding of E' cannot bring the mirror itself back (scenes far from the origin).
+//     docs/design.md, "Primary and reflected rays"). delta = max(1e-4, 32 eps (|E|max + |E'|max +
+//     t_max) / t_min) so that rounding of E' cannot bring the mirror itself back (scenes far from
+//     the origin).
 //   - Packed: otherwise (curved mirrors, several planes, mixed tiles, a parent that is not a
 //     shaft) only the mirror samples are packed, in tile order, into a width = count,
 //     height = 1 tile with shaft = false: origin = hit point, direction = the reflection about
@@ -84,8 +85,8 @@ struct RenderOptions {
     /// Trace shadow segments. false: every light lights every point it faces (the viewer's
     /// shadows-off mode); no shadow buffer or shadow map then.
     bool shadows = true;
-    bool progress = false;       ///< Progress bar on stderr (only when stderr is a terminal
-                                 ///< and the render takes longer than about a second).
+    bool progress = false;  ///< Progress bar on stderr (only when stderr is a terminal
+                            ///< and the render takes longer than about a second).
     /// Side in pixels of the regions handed to the tracer as one tile (a multiple of 4, up to
     /// max_region; 0 = default_region(aa)). RTT tries a region as one shaft (at K = 1 a 4x4-pixel
     /// tile is a single 16-wide packet, too few rays to pay for a shaft); other tracers cut it
@@ -95,7 +96,8 @@ struct RenderOptions {
     int region_pixels() const;
 
     /// Throws rtt::Error for a size, K, depth, thread count or map light out of range, a
-    /// shadow buffer or map without shadows, or a sample count above max_render_samples. `light_count` is the scene's number of lights.
+    /// shadow buffer or map without shadows, or a sample count above max_render_samples.
+    /// `light_count` is the scene's number of lights.
     void validate(size_t light_count) const;
 };
 

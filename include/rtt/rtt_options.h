@@ -55,6 +55,7 @@ inline constexpr int rtt_max_samples_per_tile = 64 * 64;
 /// An RTT tracer over `scene` and `tree` (both must outlive it; thread-safe like every tracer).
 /// Rays it does not answer from a relevant list, and tiles without a shaft, go to the widest
 /// packets of the build. Throws rtt::Error for invalid options.
-std::unique_ptr<Tracer> make_rtt_tracer(const Scene& scene, const KdTree& tree, const RttOptions& options = {});
+std::unique_ptr<Tracer> make_rtt_tracer(const Scene& scene, const KdTree& tree,
+                                        const RttOptions& options = {});
 
 }  // namespace rtt

@@ -15,10 +15,10 @@ namespace rtt {
 
 struct Material {
     std::string name = "default";
-    Vec3f diffuse{0.7f};      ///< Lambertian colour, linear RGB in [0, 1].
-    Vec3f specular{0.f};      ///< Phong specular colour.
-    float shininess = 32.f;   ///< Phong exponent.
-    float mirror = 0.f;       ///< Mirror reflectivity in [0, 1]; > 0 spawns reflected rays.
+    Vec3f diffuse{0.7f};     ///< Lambertian colour, linear RGB in [0, 1].
+    Vec3f specular{0.f};     ///< Phong specular colour.
+    float shininess = 32.f;  ///< Phong exponent.
+    float mirror = 0.f;      ///< Mirror reflectivity in [0, 1]; > 0 spawns reflected rays.
 };
 
 enum class LightKind { omni, spot };
@@ -78,8 +78,8 @@ struct Scene {
     /// A scene of one mesh from arrays in memory, no file involved: a grey material, no lights,
     /// no camera. Validated: throws rtt::Error for no triangles, an index out of range or a NaN
     /// or infinite coordinate.
-    static Scene from_mesh(std::span<const Vec3f> vertices, std::span<const TriangleIndices> triangles,
-                           std::string name = "mesh");
+    static Scene from_mesh(std::span<const Vec3f> vertices,
+                           std::span<const TriangleIndices> triangles, std::string name = "mesh");
 };
 
 /// Throws rtt::Error when the scene cannot be rendered: no triangles, indices out of range,

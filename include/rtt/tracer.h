@@ -22,7 +22,8 @@ namespace rtt {
 inline constexpr float shadow_epsilon = 1e-4f;
 
 /// The one definition of a shadow segment used by every tracer: from the light L towards the
-/// hit point p, s in [1e-4, 1 - 1e-4] of L + s (p - L). (CONVENTIONS lets a tracer trace either way.)
+/// hit point p, s in [1e-4, 1 - 1e-4] of L + s (p - L). (CONVENTIONS lets a tracer trace either
+/// way.)
 inline Ray shadow_ray(const Vec3f& light, const Vec3f& point) {
     return Ray{light, point - light, shadow_epsilon, 1.f - shadow_epsilon};
 }
@@ -49,11 +50,11 @@ struct SegmentTile {
     int width = 0;
     int height = 0;
     Vec3f light;
-    std::span<const Vec3f> points;      ///< Hit point p of each sample.
+    std::span<const Vec3f> points;        ///< Hit point p of each sample.
     std::span<const uint32_t> triangles;  ///< Triangle the sample's ray hit (plane identity).
-    std::span<const uint8_t> active;    ///< 1 = answer this segment; 0 = skip (visible = 0).
-    bool shaft = false;                 ///< Points come from a shaft tile (see RayTile).
-    int cell = 0;                       ///< As RayTile::cell.
+    std::span<const uint8_t> active;      ///< 1 = answer this segment; 0 = skip (visible = 0).
+    bool shaft = false;                   ///< Points come from a shaft tile (see RayTile).
+    int cell = 0;                         ///< As RayTile::cell.
 };
 
 /// Per-kind counters, the rows of the paper's Table 1. Added up over tiles and threads.
@@ -80,13 +81,35 @@ struct TraceStats {
 
     /// Every counter above, for code that adds or ships them all (sums, MPI ranks).
     std::array<uint64_t*, 14> counters() {
-        return {&tiles, &rtt_tiles, &rays, &traced, &answered, &relevant_sum, &open_tiles,
-                &empty_tiles, &declined_shaft, &declined_end, &declined_budget, &declined_list,
-                &declined_corners, &fallback_ns};
+        return {&tiles,
+                &rtt_tiles,
+                &rays,
+                &traced,
+                &answered,
+                &relevant_sum,
+                &open_tiles,
+                &empty_tiles,
+                &declined_shaft,
+                &declined_end,
+                &declined_budget,
+                &declined_list,
+                &declined_corners,
+                &fallback_ns};
     }
     std::array<uint64_t, 14> counter_values() const {
-        return {tiles, rtt_tiles, rays, traced, answered, relevant_sum, open_tiles, empty_tiles,
-                declined_shaft, declined_end, declined_budget, declined_list, declined_corners,
+        return {tiles,
+                rtt_tiles,
+                rays,
+                traced,
+                answered,
+                relevant_sum,
+                open_tiles,
+                empty_tiles,
+                declined_shaft,
+                declined_end,
+                declined_budget,
+                declined_list,
+                declined_corners,
                 fallback_ns};
     }
     /// Sum of the declined_* counters.
@@ -94,10 +117,11 @@ struct TraceStats {
         return declined_shaft + declined_end + declined_budget + declined_list + declined_corners;
     }
 
-
     TraceStats& operator+=(const TraceStats& o);
     double fallback_seconds() const { return double(fallback_ns) * 1e-9; }
-    double avg_relevant() const { return rtt_tiles ? double(relevant_sum) / double(rtt_tiles) : 0.0; }
+    double avg_relevant() const {
+        return rtt_tiles ? double(relevant_sum) / double(rtt_tiles) : 0.0;
+    }
 };
 
 /// TraceStats' declined_* counters with their names in JSON (--stats-json, rtt bench) and

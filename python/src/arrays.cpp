@@ -55,8 +55,8 @@ std::vector<float> per_ray(const py::handle& h, size_t n, const char* what) {
     if (a.dtype().kind() != 'f' && a.dtype().kind() != 'i' && a.dtype().kind() != 'u')
         throw py::value_error(std::string(what) + ": expected a number or a float array");
     if (a.ndim() != 1 || size_t(a.shape(0)) != n)
-        throw py::value_error(std::string(what) + ": expected a number or shape (" + std::to_string(n) +
-                              ",), got " + shape_of(a));
+        throw py::value_error(std::string(what) + ": expected a number or shape (" +
+                              std::to_string(n) + ",), got " + shape_of(a));
     const auto f = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a);
     return std::vector<float>(f.data(), f.data() + n);
 }
@@ -72,7 +72,8 @@ std::vector<TriangleIndices> to_triangles(const py::handle& h, size_t vertex_cou
     py::array a = as_array(h, "triangles");
     const char kind = a.dtype().kind();
     if (kind != 'i' && kind != 'u')
-        throw py::value_error("triangles: expected an integer array, got " + std::string(py::str(a.dtype())));
+        throw py::value_error("triangles: expected an integer array, got " +
+                              std::string(py::str(a.dtype())));
     if (a.ndim() != 2 || a.shape(1) != 3)
         throw py::value_error("triangles: expected shape (M, 3), got " + shape_of(a));
     const auto v = py::array_t<int64_t, py::array::c_style | py::array::forcecast>::ensure(a);
@@ -82,7 +83,8 @@ std::vector<TriangleIndices> to_triangles(const py::handle& h, size_t vertex_cou
         for (py::ssize_t i = 0; i < u.size(); ++i)
             if (u.data()[i] >= vertex_count)
                 throw py::value_error("triangles: index " + std::to_string(u.data()[i]) +
-                                      " out of range for " + std::to_string(vertex_count) + " vertices");
+                                      " out of range for " + std::to_string(vertex_count) +
+                                      " vertices");
     }
     const size_t m = size_t(a.shape(0));
     std::vector<TriangleIndices> out(m);
@@ -104,8 +106,9 @@ std::vector<Ray> to_rays(const py::handle& origins, const py::handle& directions
     const std::vector<Vec3f> org = rows3(origins, "origins", true, one_origin);
     const std::vector<Vec3f> dir = rows3(directions, "directions", false, unused);
     if (!one_origin && org.size() != dir.size())
-        throw py::value_error("origins and directions differ in length (" + std::to_string(org.size()) +
-                              " and " + std::to_string(dir.size()) + ")");
+        throw py::value_error("origins and directions differ in length (" +
+                              std::to_string(org.size()) + " and " + std::to_string(dir.size()) +
+                              ")");
     const std::vector<float> t0 = per_ray(tmin, dir.size(), "tmin");
     const std::vector<float> t1 = per_ray(tmax, dir.size(), "tmax");
     std::vector<Ray> rays(dir.size());
@@ -122,12 +125,15 @@ std::vector<Ray> to_rays(const py::handle& origins, const py::handle& directions
 std::optional<Camera> to_camera(const py::handle& numbers, const py::handle& position,
                                 const py::handle& target, const py::handle& up,
                                 const py::handle& fovy) {
-    const bool keywords = !position.is_none() || !target.is_none() || !up.is_none() || !fovy.is_none();
+    const bool keywords =
+        !position.is_none() || !target.is_none() || !up.is_none() || !fovy.is_none();
     if (!numbers.is_none() && keywords)
-        throw py::value_error("camera: give the 10 numbers or position=, target=, up=, fovy=, not both");
+        throw py::value_error(
+            "camera: give the 10 numbers or position=, target=, up=, fovy=, not both");
     const auto vec = [](const py::handle& h, const char* what) {
         const std::vector<float> v = h.cast<std::vector<float>>();
-        if (v.size() != 3) throw py::value_error(std::string("camera: ") + what + " needs 3 numbers");
+        if (v.size() != 3)
+            throw py::value_error(std::string("camera: ") + what + " needs 3 numbers");
         return Vec3f{v[0], v[1], v[2]};
     };
     Camera c;
@@ -139,8 +145,9 @@ std::optional<Camera> to_camera(const py::handle& numbers, const py::handle& pos
             throw py::value_error("camera: expected 10 numbers px,py,pz,tx,ty,tz,ux,uy,uz,fovy");
         }
         if (v.size() != 10)
-            throw py::value_error("camera: expected 10 numbers px,py,pz,tx,ty,tz,ux,uy,uz,fovy, got " +
-                                  std::to_string(v.size()));
+            throw py::value_error(
+                "camera: expected 10 numbers px,py,pz,tx,ty,tz,ux,uy,uz,fovy, got " +
+                std::to_string(v.size()));
         c = Camera{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, v[9]};
     } else if (keywords) {
         if (position.is_none() || target.is_none())
@@ -152,7 +159,8 @@ std::optional<Camera> to_camera(const py::handle& numbers, const py::handle& pos
     } else {
         return std::nullopt;
     }
-    if (!is_finite(c.position) || !is_finite(c.target) || !is_finite(c.up) || !std::isfinite(c.fovy_deg))
+    if (!is_finite(c.position) || !is_finite(c.target) || !is_finite(c.up) ||
+        !std::isfinite(c.fovy_deg))
         throw py::value_error("camera: NaN or infinite value");
     return c;
 }

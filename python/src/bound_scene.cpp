@@ -42,7 +42,9 @@ Camera BoundScene::default_camera() const {
 }
 
 BoundTracer::BoundTracer(std::shared_ptr<BoundScene> scene, const std::string& kind)
-    : scene_(std::move(scene)), kind_(kind), tracer_(make_tracer(kind, scene_->scene(), scene_->tree())) {}
+    : scene_(std::move(scene)),
+      kind_(kind),
+      tracer_(make_tracer(kind, scene_->scene(), scene_->tree())) {}
 
 void BoundTracer::record(const TraceStats& stats, double seconds) {
     std::lock_guard lock(stats_mutex_);
@@ -81,36 +83,39 @@ void BoundTracer::camera_hits(const Camera& camera, int width, int height, int a
     const int regions_x = (tiles_x + r - 1) / r, regions_y = (tiles_y + r - 1) / r;
     tbb::combinable<TraceStats> partial;
     const double s = timed_in_arena(threads, [&] {
-        tbb::parallel_for(tbb::blocked_range2d<int>(0, regions_y, 0, regions_x), [&](const auto& range) {
-            std::vector<Ray> tile;
-            std::vector<Hit> tile_hits;
-            std::vector<SampleAnswer> tile_answers;
-            for (int ry = range.rows().begin(); ry != range.rows().end(); ++ry)
-                for (int rx = range.cols().begin(); rx != range.cols().end(); ++rx) {
-                    const int tx = rx * r, ty = ry * r;
-                    const int cols = std::min(r, tiles_x - tx), rows = std::min(r, tiles_y - ty);
-                    const int w = 4 * aa * cols, h = 4 * aa * rows;
-                    tile.resize(size_t(w) * size_t(h));
-                    tile_hits.resize(tile.size());
-                    tile_answers.resize(answers.empty() ? 0 : tile.size());
-                    rays.region_rays(tx, ty, cols, rows, tile);
-                    tracer_->intersect(RayTile{w, h, tile, true, cell}, tile_hits, &partial.local(),
-                                       tile_answers);
-                    // Sample (sc, sr) of the region is grid sample (4 tx K + sc, 4 ty K + sr);
-                    // padding beyond the image is dropped.
-                    for (int sr = 0; sr < h; ++sr) {
-                        const int gy = 4 * ty * aa + sr;
-                        if (gy >= height * aa) break;
-                        for (int sc = 0; sc < w; ++sc) {
-                            const int gx = 4 * tx * aa + sc;
-                            if (gx >= width * aa) break;
-                            const size_t at = size_t(gy) * row + size_t(gx), in = size_t(sr * w + sc);
-                            hits[at] = tile_hits[in];
-                            if (!answers.empty()) answers[at] = tile_answers[in];
+        tbb::parallel_for(
+            tbb::blocked_range2d<int>(0, regions_y, 0, regions_x), [&](const auto& range) {
+                std::vector<Ray> tile;
+                std::vector<Hit> tile_hits;
+                std::vector<SampleAnswer> tile_answers;
+                for (int ry = range.rows().begin(); ry != range.rows().end(); ++ry)
+                    for (int rx = range.cols().begin(); rx != range.cols().end(); ++rx) {
+                        const int tx = rx * r, ty = ry * r;
+                        const int cols = std::min(r, tiles_x - tx),
+                                  rows = std::min(r, tiles_y - ty);
+                        const int w = 4 * aa * cols, h = 4 * aa * rows;
+                        tile.resize(size_t(w) * size_t(h));
+                        tile_hits.resize(tile.size());
+                        tile_answers.resize(answers.empty() ? 0 : tile.size());
+                        rays.region_rays(tx, ty, cols, rows, tile);
+                        tracer_->intersect(RayTile{w, h, tile, true, cell}, tile_hits,
+                                           &partial.local(), tile_answers);
+                        // Sample (sc, sr) of the region is grid sample (4 tx K + sc, 4 ty K + sr);
+                        // padding beyond the image is dropped.
+                        for (int sr = 0; sr < h; ++sr) {
+                            const int gy = 4 * ty * aa + sr;
+                            if (gy >= height * aa) break;
+                            for (int sc = 0; sc < w; ++sc) {
+                                const int gx = 4 * tx * aa + sc;
+                                if (gx >= width * aa) break;
+                                const size_t at = size_t(gy) * row + size_t(gx),
+                                             in = size_t(sr * w + sc);
+                                hits[at] = tile_hits[in];
+                                if (!answers.empty()) answers[at] = tile_answers[in];
+                            }
                         }
                     }
-                }
-        });
+            });
     });
     TraceStats total;
     partial.combine_each([&](const TraceStats& t) { total += t; });
@@ -119,7 +124,8 @@ void BoundTracer::camera_hits(const Camera& camera, int width, int height, int a
 
 RenderResult render_like_cli(const BoundScene& bound, const Tracer& tracer,
                              const std::optional<Camera>& camera,
-                             const std::optional<std::vector<Vec3f>>& lights, RenderOptions options) {
+                             const std::optional<std::vector<Vec3f>>& lights,
+                             RenderOptions options) {
     Scene scene = bound.scene();  // lights change per call; geometry is the tracer's
     const Bbox3f bounds = scene.bounds();
     options.camera = camera ? *camera : bound.default_camera();
@@ -128,7 +134,8 @@ RenderResult render_like_cli(const BoundScene& bound, const Tracer& tracer,
             throw Error(std::to_string(lights->size()) + " lights given; at most " +
                         std::to_string(max_lights) + " are supported");
         scene.lights.clear();
-        for (const Vec3f& p : *lights) scene.lights.push_back(make_point_light(p, bounds, lights->size()));
+        for (const Vec3f& p : *lights)
+            scene.lights.push_back(make_point_light(p, bounds, lights->size()));
     } else if (scene.lights.empty()) {
         scene.lights.push_back(make_point_light(options.camera.position, bounds, 1));
     }

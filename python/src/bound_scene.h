@@ -53,8 +53,8 @@ public:
     void intersect(std::span<const Ray> rays, std::span<Hit> hits, int threads);
     void visible(std::span<const Ray> rays, std::span<uint8_t> visible, int threads);
     /// Every primary sample of a width x height image with aa x aa samples, traced as the
-    /// renderer traces it (shaft regions of 4x4-pixel tiles); hits (and, if not empty, how each sample
-    /// was answered) in row-major (H*aa) x (W*aa) order.
+    /// renderer traces it (shaft regions of 4x4-pixel tiles); hits (and, if not empty, how each
+    /// sample was answered) in row-major (H*aa) x (W*aa) order.
     void camera_hits(const Camera& camera, int width, int height, int aa, std::span<Hit> hits,
                      std::span<SampleAnswer> answers, int threads);
 
@@ -74,6 +74,7 @@ private:
 /// replace the scene's (`make_point_light`), a scene without lights is lit from the eye.
 RenderResult render_like_cli(const BoundScene& scene, const Tracer& tracer,
                              const std::optional<Camera>& camera,
-                             const std::optional<std::vector<Vec3f>>& lights, RenderOptions options);
+                             const std::optional<std::vector<Vec3f>>& lights,
+                             RenderOptions options);
 
 }  // namespace rtt::python

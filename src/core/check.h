@@ -9,7 +9,8 @@
 
 namespace rtt::detail {
 template <typename A, typename B>
-[[noreturn]] void check_failed(const char* file, int line, const char* expr, const A& a, const B& b) {
+[[noreturn]] void check_failed(const char* file, int line, const char* expr, const A& a,
+                               const B& b) {
     std::ostringstream os;
     os << file << ":" << line << ": check failed: " << expr << " (" << a << " vs " << b << ")";
     std::fprintf(stderr, "%s\n", os.str().c_str());
@@ -17,11 +18,11 @@ template <typename A, typename B>
 }
 }  // namespace rtt::detail
 
-#define RTT_CHECK_OP(a, op, b)                                                              \
-    do {                                                                                    \
-        const auto& rtt_a_ = (a);                                                           \
-        const auto& rtt_b_ = (b);                                                           \
-        if (!(rtt_a_ op rtt_b_)) [[unlikely]]                                               \
+#define RTT_CHECK_OP(a, op, b)                                                                  \
+    do {                                                                                        \
+        const auto& rtt_a_ = (a);                                                               \
+        const auto& rtt_b_ = (b);                                                               \
+        if (!(rtt_a_ op rtt_b_)) [[unlikely]]                                                   \
             ::rtt::detail::check_failed(__FILE__, __LINE__, #a " " #op " " #b, rtt_a_, rtt_b_); \
     } while (0)
 #define RTT_CHECK(cond) RTT_CHECK_OP(static_cast<bool>(cond), ==, true)

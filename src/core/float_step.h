@@ -15,7 +15,9 @@ inline float next_float_down(float x) {
 }
 
 /// The smallest float above x (x finite).
-inline float next_float_up(float x) { return -next_float_down(-x); }
+inline float next_float_up(float x) {
+    return -next_float_down(-x);
+}
 
 /// An unsigned key in the order of the floats (x finite; -0 and +0 are one key), so that the
 /// floats between two can be bisected; float_from_order_key inverts it.

@@ -1,10 +1,11 @@
+#include "rtt/scene.h"
+
 #include <cmath>
 #include <string>
 #include <utility>
 
 #include "rtt/error.h"
 #include "rtt/memory_budget.h"
-#include "rtt/scene.h"
 
 namespace rtt {
 namespace {
@@ -29,8 +30,9 @@ uint32_t Scene::add_material(const Material& m) {
 void Scene::add_mesh(std::span<const Vec3f> verts, std::span<const TriangleIndices> tris,
                      uint32_t material, std::span<const Vec3f> mesh_normals) {
     // Instancing lets a small file ask for any number of triangles: refuse before growing.
-    require_memory(scene_memory_bytes(vertices.size() + verts.size(), triangles.size() + tris.size()),
-                   "a scene of " + std::to_string(triangles.size() + tris.size()) + " triangles");
+    require_memory(
+        scene_memory_bytes(vertices.size() + verts.size(), triangles.size() + tris.size()),
+        "a scene of " + std::to_string(triangles.size() + tris.size()) + " triangles");
     const auto base = uint32_t(vertices.size());
     const bool had_normals = !normals.empty() || vertices.empty();
     vertices.insert(vertices.end(), verts.begin(), verts.end());
@@ -68,7 +70,8 @@ void validate(const Scene& scene) {
         throw Error(where + ": normals must be empty or one per vertex");
     for (size_t i = 0; i < scene.vertices.size(); ++i)
         if (!is_finite(scene.vertices[i]))
-            throw Error(where + ": vertex " + std::to_string(i) + " has a NaN or infinite coordinate");
+            throw Error(where + ": vertex " + std::to_string(i) +
+                        " has a NaN or infinite coordinate");
     for (size_t i = 0; i < scene.triangles.size(); ++i) {
         for (uint32_t v : scene.triangles[i])
             if (v >= scene.vertices.size())

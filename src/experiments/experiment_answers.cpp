@@ -49,8 +49,8 @@ struct FrameCosts {
     AnsweredCost primary, shadow;
 };
 
-FrameCosts answered_costs(const BenchConfig& config, const BenchScene& scene, int width,
-                          int height, int aa) {
+FrameCosts answered_costs(const BenchConfig& config, const BenchScene& scene, int width, int height,
+                          int aa) {
     const Workload workload(scene, width, height, aa, size_t(1) << 16, config.region);
     const auto rtt = make_tracer("rtt", scene.scene, scene.tree);
     const auto packet = make_tracer("packet", scene.scene, scene.tree);
@@ -64,8 +64,9 @@ FrameCosts answered_costs(const BenchConfig& config, const BenchScene& scene, in
         std::vector<uint8_t> visible(n);
         std::vector<SampleAnswer> answers(n);
         const auto count_answered = [&](size_t m) {
-            return uint64_t(std::count_if(answers.begin(), answers.begin() + long(m),
-                                          [](SampleAnswer a) { return a != SampleAnswer::traced; }));
+            return uint64_t(
+                std::count_if(answers.begin(), answers.begin() + long(m),
+                              [](SampleAnswer a) { return a != SampleAnswer::traced; }));
         };
         std::vector<size_t> tiles, jobs;
         for (size_t t = 0; t < band.tile_count(); ++t) {
@@ -136,7 +137,8 @@ double limit_ns_per_ray(int count, int reps) {
                 PacketHit<K> best;
                 for (int j = 0; j < count; ++j) {
                     vfloat<K> t;
-                    const vbool<K> hit = intersect_watertight<K>(wp, vbool<K>(true), tris[size_t(j)], t);
+                    const vbool<K> hit =
+                        intersect_watertight<K>(wp, vbool<K>(true), tris[size_t(j)], t);
                     best.update(hit, t, uint32_t(j));
                 }
                 storeu_pairs(reinterpret_cast<float*>(hits.data() + base), best.t,
@@ -159,8 +161,9 @@ ExperimentResult run_answers(const BenchConfig& config, SceneCache& scenes) {
     TextTable t;
     t.title = "ns per answered ray (" + size_label(w, h) + ", 1 thread, CPU time, median of " +
               std::to_string(config.repetitions) + ")";
-    t.header = {"scene", "K", "primary tiles answered", "primary ns/ray", "shadow jobs answered",
-                "shadow ns/ray"};
+    t.header = {
+        "scene",        "K", "primary tiles answered", "primary ns/ray", "shadow jobs answered",
+        "shadow ns/ray"};
     nlohmann::json cells = nlohmann::json::array();
     for (const std::string& name : config.scenes) {
         const BenchScene& scene = scenes.get(name);

@@ -47,8 +47,8 @@ BuildTimes build_times(const BenchScene& scene, int threads, int repetitions) {
             if (has_tracer("embree")) {
                 bvh.push_back(
                     embree_build_seconds(*make_tracer("embree", scene.scene, scene.tree)));
-                bvh_medium.push_back(embree_build_seconds(
-                    *make_tracer("embree-medium", scene.scene, scene.tree)));
+                bvh_medium.push_back(
+                    embree_build_seconds(*make_tracer("embree-medium", scene.scene, scene.tree)));
             }
         }
     });
@@ -93,17 +93,14 @@ void add_build_table(const BenchConfig& config, SceneCache& scenes, ExperimentRe
             row.push_back(t.bvh_seconds >= 0 ? format_fixed(t.bvh_seconds, 3) : "-");
             row.push_back(t.bvh_medium_seconds >= 0 ? format_fixed(t.bvh_medium_seconds, 3) : "-");
             row.push_back(t.bvh_seconds > 0 ? format_ratio(t.kd_seconds / t.bvh_seconds) : "-");
-            row.push_back(t.bvh_medium_seconds > 0
-                              ? format_ratio(t.kd_seconds / t.bvh_medium_seconds)
-                              : "-");
+            row.push_back(
+                t.bvh_medium_seconds > 0 ? format_ratio(t.kd_seconds / t.bvh_medium_seconds) : "-");
             if (t.bvh_seconds > 0)
-                r.findings.push_back(name + ", " + std::to_string(threads) +
-                                     " thread(s): kd-tree build " +
-                                     format_ratio(t.kd_seconds / t.bvh_seconds) +
-                                     " of Embree's HIGH build (" +
-                                     (t.kd_seconds <= t.bvh_seconds ? "at or below" : "above") +
-                                     " it), " + format_ratio(t.kd_seconds / t.bvh_medium_seconds) +
-                                     " of its MEDIUM build");
+                r.findings.push_back(
+                    name + ", " + std::to_string(threads) + " thread(s): kd-tree build " +
+                    format_ratio(t.kd_seconds / t.bvh_seconds) + " of Embree's HIGH build (" +
+                    (t.kd_seconds <= t.bvh_seconds ? "at or below" : "above") + " it), " +
+                    format_ratio(t.kd_seconds / t.bvh_medium_seconds) + " of its MEDIUM build");
             build_json.push_back({{"scene", name},
                                   {"threads", threads},
                                   {"kdtree_s", t.kd_seconds},

@@ -9,7 +9,8 @@ namespace rtt::bench {
 const BenchScene& SceneCache::get(const std::string& name) {
     auto it = scenes_.find(name);
     if (it == scenes_.end())
-        it = scenes_.emplace(name, std::make_unique<BenchScene>(load_bench_scene(name, make_tree_))).first;
+        it = scenes_.emplace(name, std::make_unique<BenchScene>(load_bench_scene(name, make_tree_)))
+                 .first;
     return *it->second;
 }
 
@@ -27,7 +28,8 @@ ExperimentResult experiment_from_json(const nlohmann::json& j) {
     ExperimentResult r;
     r.id = j.at("id").get<std::string>();
     r.title = j.at("title").get<std::string>();
-    for (const nlohmann::json& m : j.at("measurements")) r.measurements.push_back(measurement_from_json(m));
+    for (const nlohmann::json& m : j.at("measurements"))
+        r.measurements.push_back(measurement_from_json(m));
     for (const nlohmann::json& t : j.at("tables")) r.tables.push_back(table_from_json(t));
     r.files = j.at("files").get<std::vector<std::string>>();
     r.findings = j.at("findings").get<std::vector<std::string>>();
@@ -71,8 +73,7 @@ std::string against_widest(const Measurement& m, ClockKind clock) {
 Measurement run_measurement(const BenchConfig& config, const BenchScene& scene,
                             const std::vector<NamedTracer>& tracers, int width, int height, int aa,
                             int threads) {
-    const Workload workload(scene, width, height, aa, MeasureOptions{}.band_samples,
-                            config.region);
+    const Workload workload(scene, width, height, aa, MeasureOptions{}.band_samples, config.region);
     MeasureOptions options;
     options.repetitions = config.repetitions;
     options.threads = threads;

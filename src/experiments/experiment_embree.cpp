@@ -18,9 +18,9 @@ using namespace detail;
 namespace {
 
 /// Every Embree mode, HIGH and MEDIUM builds (src/trace/factories.h, EmbreeMode).
-const std::vector<std::string> embree_modes = {"embree",        "embree-stream",
-                                               "embree1",       "embree-medium",
-                                               "embree-stream-medium", "embree1-medium"};
+const std::vector<std::string> embree_modes = {
+    "embree",        "embree-stream",        "embree1",
+    "embree-medium", "embree-stream-medium", "embree1-medium"};
 
 /// The fastest Embree mode measured in `m` (primary or shadow rays), or "" when none was.
 std::string fastest_embree(const Measurement& m, bool shadow, ClockKind clock) {
@@ -64,7 +64,8 @@ TextTable throughput_table(const std::vector<Measurement>& ms,
         if (both) {
             const std::string best = fastest_embree(m, shadow, clock);
             row.push_back(best.empty() ? "-" : best);
-            row.push_back(best.empty() ? "-" : format_ratio(speedup(m, "rtt", best, shadow, clock)));
+            row.push_back(best.empty() ? "-"
+                                       : format_ratio(speedup(m, "rtt", best, shadow, clock)));
         }
         t.rows.push_back(row);
     }

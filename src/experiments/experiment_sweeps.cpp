@@ -136,8 +136,8 @@ ExperimentResult run_sweep(const BenchConfig& config, SceneCache& scenes, const 
                              format_ratio(speedup(last, "rtt", "packet", false, clock)) + " at " +
                              sweep.points.back().label + "; shadow " +
                              format_ratio(speedup(first, "rtt", "packet", true, clock)) + " -> " +
-                             format_ratio(speedup(last, "rtt", "packet", true, clock)) +
-                             "; rtt/" + wide + " primary " +
+                             format_ratio(speedup(last, "rtt", "packet", true, clock)) + "; rtt/" +
+                             wide + " primary " +
                              format_ratio(speedup(first, "rtt", wide, false, clock)) + " -> " +
                              format_ratio(speedup(last, "rtt", wide, false, clock)) + ", shadow " +
                              format_ratio(speedup(first, "rtt", wide, true, clock)) + " -> " +

@@ -116,8 +116,7 @@ ExperimentResult run_table1(const BenchConfig& config, SceneCache& scenes) {
     r.title = "Table 1: packet (4-wide SSE), frustum and rtt at " + size_label(w, h) +
               ", no antialiasing";
     std::fprintf(config.log, "\n== %s\n", r.title.c_str());
-    const std::vector<std::string> kinds =
-        available({"packet", widest_packet(), "frustum", "rtt"});
+    const std::vector<std::string> kinds = available({"packet", widest_packet(), "frustum", "rtt"});
     for (const std::string& name : config.scenes) {
         const BenchScene& scene = scenes.get(name);
         r.measurements.push_back(
@@ -184,16 +183,16 @@ ExperimentResult run_hq(const BenchConfig& config, SceneCache& scenes) {
     std::fprintf(config.log, "\n== %s\n", r.title.c_str());
     const BenchScene& scene = scenes.get(name);
     const std::string wide = widest_packet();
-    r.measurements.push_back(run_measurement(config, scene,
-                                             make_tracers(scene, available({"packet", wide, "rtt"})),
-                                             w, h, k, config.threads));
+    r.measurements.push_back(
+        run_measurement(config, scene, make_tracers(scene, available({"packet", wide, "rtt"})), w,
+                        h, k, config.threads));
     const Measurement& m = r.measurements.back();
 
     TextTable t;
     t.title = r.title + " (" + std::to_string(config.threads) + " thread(s), " + clock_name(clock) +
               " time, median of " + std::to_string(config.repetitions) + ")";
-    t.header = {"rays",       "count",    "packet ms", wide + " ms", "rtt ms",
-                "rtt traced", "speed-up", "rtt/" + wide};
+    t.header = {"rays",   "count",      "packet ms", wide + " ms",
+                "rtt ms", "rtt traced", "speed-up",  "rtt/" + wide};
     // Seconds of one tracer for one kind of ray (-1: not in this build).
     const auto seconds = [&](const std::string& kind, bool shadow) {
         const TracerResult* q = m.find(kind);

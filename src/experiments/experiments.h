@@ -63,8 +63,7 @@ const char* mode_name(BenchMode mode);
 class SceneCache {
 public:
     /// `make_tree`: as load_bench_scene's.
-    explicit SceneCache(
-        std::function<KdTree(const std::string& name, const Scene&)> make_tree = {})
+    explicit SceneCache(std::function<KdTree(const std::string& name, const Scene&)> make_tree = {})
         : make_tree_(std::move(make_tree)) {}
 
     /// Throws rtt::Error for an unknown scene or a bad file.

@@ -30,7 +30,9 @@ std::string cpu_model() {
 }
 
 /// The commit these sources were compiled from, recorded at build time (cmake/git_commit.cmake).
-std::string git_commit() { return RTT_GIT_COMMIT; }
+std::string git_commit() {
+    return RTT_GIT_COMMIT;
+}
 
 std::string compiler() {
 #if defined(__clang__)

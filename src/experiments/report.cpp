@@ -122,8 +122,11 @@ KindResult kind_from_json(const nlohmann::json& j) {
     k.differences = j.at("differences_from_baseline").get<uint64_t>();
     const nlohmann::json& s = j.at("stats");
     TraceStats& t = k.stats;
-    for (auto [field, name] : {std::pair{&t.tiles, "tiles"}, {&t.rtt_tiles, "rtt_tiles"},
-                               {&t.rays, "rays"}, {&t.traced, "traced"}, {&t.answered, "answered"},
+    for (auto [field, name] : {std::pair{&t.tiles, "tiles"},
+                               {&t.rtt_tiles, "rtt_tiles"},
+                               {&t.rays, "rays"},
+                               {&t.traced, "traced"},
+                               {&t.answered, "answered"},
                                {&t.relevant_sum, "relevant_sum"}})
         *field = s.at(name).get<uint64_t>();
     if (s.contains("fallback_seconds"))

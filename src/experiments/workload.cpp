@@ -113,7 +113,8 @@ Workload::Workload(const BenchScene& scene, int width, int height, int aa, size_
     region_ = check.region_pixels();
     tiles_x_ = (width + region_ - 1) / region_;
     tiles_y_ = (height + region_ - 1) / region_;
-    const size_t row_samples = size_t(4 * ((width + 3) / 4)) * size_t(region_) * size_t(aa) * size_t(aa);
+    const size_t row_samples =
+        size_t(4 * ((width + 3) / 4)) * size_t(region_) * size_t(aa) * size_t(aa);
     const int rows_per_band =
         int(std::max<size_t>(1, (band_samples + row_samples - 1) / row_samples));
     for (int row = 0; row < tiles_y_; row += rows_per_band)
@@ -142,15 +143,17 @@ Band Workload::make_band(int b) const {
     band.last_width = 4 * aa_ * last_cols;
     const bool last_band = band.first_tile_row + band.tile_rows == tiles_y_;
     band.last_height = last_band ? 4 * aa_ * last_rows : n;
-    band.rays.resize(band.tile_offset(band.tile_count() - 1) + band.tile_size(band.tile_count() - 1));
+    band.rays.resize(band.tile_offset(band.tile_count() - 1) +
+                     band.tile_size(band.tile_count() - 1));
     // The renderer's rays (CameraRays::region_rays); tests/bench_test.cpp also checks the hits
     // against render()'s hit buffer.
     size_t t = 0;
     for (int ty = band.first_tile_row; ty < band.first_tile_row + band.tile_rows; ++ty)
         for (int tx = 0; tx < tiles_x_; ++tx, ++t)
-            camera.region_rays(tx * r, ty * r, tx + 1 == tiles_x_ ? last_cols : r,
-                               ty + 1 == tiles_y_ ? last_rows : r,
-                               std::span(band.rays).subspan(band.tile_offset(t), band.tile_size(t)));
+            camera.region_rays(
+                tx * r, ty * r, tx + 1 == tiles_x_ ? last_cols : r,
+                ty + 1 == tiles_y_ ? last_rows : r,
+                std::span(band.rays).subspan(band.tile_offset(t), band.tile_size(t)));
     return band;
 }
 

@@ -77,13 +77,18 @@ struct Band {
     size_t tile_count() const { return size_t(tile_rows) * size_t(tiles_x); }
     /// Samples of the largest tile (scratch buffers).
     size_t tile_samples() const { return size_t(side) * size_t(side); }
-    int tile_width(size_t t) const { return t % size_t(tiles_x) + 1 == size_t(tiles_x) ? last_width : side; }
-    int tile_height(size_t t) const { return t / size_t(tiles_x) + 1 == size_t(tile_rows) ? last_height : side; }
+    int tile_width(size_t t) const {
+        return t % size_t(tiles_x) + 1 == size_t(tiles_x) ? last_width : side;
+    }
+    int tile_height(size_t t) const {
+        return t / size_t(tiles_x) + 1 == size_t(tile_rows) ? last_height : side;
+    }
     size_t tile_size(size_t t) const { return size_t(tile_width(t)) * size_t(tile_height(t)); }
     /// First sample of tile t in `rays` (and in every per-sample array of the band).
     size_t tile_offset(size_t t) const {
         const size_t row = t / size_t(tiles_x), col = t % size_t(tiles_x);
-        return row * size_t(side) * size_t(row_width()) + col * size_t(side) * size_t(tile_height(t));
+        return row * size_t(side) * size_t(row_width()) +
+               col * size_t(side) * size_t(tile_height(t));
     }
     /// Samples per row of tiles (all columns).
     int row_width() const { return (tiles_x - 1) * side + last_width; }

@@ -1,5 +1,7 @@
 // Primary rays exactly as CONVENTIONS writes them. This file is compiled, like all of rtt,
 // with -ffp-contract=off: each expression is evaluated as written, in 32-bit float.
+#include "rtt/camera.h"
+
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -7,7 +9,6 @@
 
 #include "core/check.h"
 #include "geom/camera_simd.h"
-#include "rtt/camera.h"
 #include "rtt/error.h"
 
 namespace rtt {
@@ -33,15 +34,17 @@ CameraRays::CameraRays(const Camera& camera, int width, int height, int aa) {
     // to zero, NaN or a non-unit vector, and every ray would silently go the same way.
     const auto unit = [](const Vec3f& v) { return std::fabs(length(v) - 1.f) <= 1e-4f; };
     if (!unit(f.forward))
-        throw Error("camera target - position must have a length between about 1e-18 and 1e18 "
-                    "(float cannot normalize it otherwise)");
+        throw Error(
+            "camera target - position must have a length between about 1e-18 and 1e18 "
+            "(float cannot normalize it otherwise)");
     const Vec3f side = cross(f.forward, camera.up);
     if (!(dot(side, side) > 0.f)) throw Error("camera up vector is parallel to the view direction");
     f.right = normalize(side);
     f.up2 = cross(f.right, f.forward);
     if (!unit(f.right))
-        throw Error("camera up vector is nearly parallel to the view direction, or its length is "
-                    "outside about 1e-18..1e18 (float cannot normalize it)");
+        throw Error(
+            "camera up vector is nearly parallel to the view direction, or its length is "
+            "outside about 1e-18..1e18 (float cannot normalize it)");
     f.aspect = float(width) / float(height);
     const float radians = camera.fovy_deg * (std::numbers::pi_v<float> / 180.f);
     f.h = std::tan(radians / 2.f);

@@ -50,7 +50,8 @@ struct WatertightRay {
 };
 
 /// Returns true and sets t when the ray hits the triangle at t in [tmin, tmax].
-RTT_FORCEINLINE bool intersect_watertight(const WatertightRay& r, const TriangleVerts& tri, float& t) {
+RTT_FORCEINLINE bool intersect_watertight(const WatertightRay& r, const TriangleVerts& tri,
+                                          float& t) {
     const Vec3f a = tri.v0 - r.org;
     const Vec3f b = tri.v1 - r.org;
     const Vec3f c = tri.v2 - r.org;

@@ -65,17 +65,20 @@ void write_pfm(const std::string& path, int width, int height, std::span<const V
     static_assert(sizeof(Vec3f) == 12, "PFM rows are written straight from Vec3f");
     write_file_atomically(path, [&](std::FILE* f) {
         // Scale -1: little-endian (the x86-64 byte order of the floats written).
-        const std::string header = "PF\n" + std::to_string(width) + " " + std::to_string(height) + "\n-1.0\n";
+        const std::string header =
+            "PF\n" + std::to_string(width) + " " + std::to_string(height) + "\n-1.0\n";
         put(f, header.data(), header.size());
         for (int y = height - 1; y >= 0; --y)
             put(f, pixels.data() + size_t(y) * size_t(width), size_t(width) * sizeof(Vec3f));
     });
 }
 
-void write_exr(const std::string& path, int width, int height, std::span<const ExrChannel> channels) {
+void write_exr(const std::string& path, int width, int height,
+               std::span<const ExrChannel> channels) {
     const size_t n = size_t(width) * size_t(height);
     for (const ExrChannel& c : channels)
-        require_size(path + " (" + c.name + ")", c.floats.empty() ? c.uints.size() : c.floats.size(), n);
+        require_size(path + " (" + c.name + ")",
+                     c.floats.empty() ? c.uints.size() : c.floats.size(), n);
     MemoryStream memory;
     try {
         Imf::Header header(width, height);
@@ -96,7 +99,8 @@ void write_exr(const std::string& path, int width, int height, std::span<const E
     } catch (const std::exception& e) {
         throw Error(path + ": cannot encode the EXR image: " + e.what());
     }
-    write_file_atomically(path, [&](std::FILE* f) { put(f, memory.bytes().data(), memory.bytes().size()); });
+    write_file_atomically(
+        path, [&](std::FILE* f) { put(f, memory.bytes().data(), memory.bytes().size()); });
 }
 
 }  // namespace rtt

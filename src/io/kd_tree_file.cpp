@@ -107,7 +107,9 @@ std::vector<uint8_t> encode(Header h) {
     return out;
 }
 
-size_t header_size() { return encode(Header{}).size(); }
+size_t header_size() {
+    return encode(Header{}).size();
+}
 
 Header decode(const uint8_t* p) {
     Header h;
@@ -133,7 +135,8 @@ std::string config_text(float isect, float trav, float bonus, int depth, int lea
 }
 
 /// Checks the nodes form one tree in the builder's layout; returns the index after the subtree
-/// at `i` (whose leaves' lists are in range), or 0 for a bad subtree (`why` says what). Recursion is bounded by kd_max_depth.
+/// at `i` (whose leaves' lists are in range), or 0 for a bad subtree (`why` says what). Recursion
+/// is bounded by kd_max_depth.
 size_t check_subtree(const KdTree& tree, size_t i, int depth, std::string& why) {
     const size_t n = tree.nodes.size();
     if (i >= n) {
@@ -160,8 +163,8 @@ size_t check_subtree(const KdTree& tree, size_t i, int depth, std::string& why) 
     const size_t below_end = check_subtree(tree, i + 1, depth + 1, why);
     if (below_end == 0) return 0;
     if (node.above_child() != below_end) {
-        why = "node " + std::to_string(i) + "'s above child " +
-              std::to_string(node.above_child()) + " is not node " + std::to_string(below_end);
+        why = "node " + std::to_string(i) + "'s above child " + std::to_string(node.above_child()) +
+              " is not node " + std::to_string(below_end);
         return 0;
     }
     return check_subtree(tree, below_end, depth + 1, why);
@@ -298,13 +301,13 @@ KdTree load_kd_tree(const std::string& path, const Scene& scene, const KdBuildCo
     if (h.isect_cost != config.isect_cost || h.trav_cost != config.trav_cost ||
         h.empty_bonus != config.empty_bonus || h.max_depth != config.max_depth ||
         h.max_leaf_size != config.max_leaf_size)
-        throw Error(path + ": the tree was built with another configuration (" +
-                    config_text(h.isect_cost, h.trav_cost, h.empty_bonus, h.max_depth,
-                                h.max_leaf_size) +
-                    "; this build uses " +
-                    config_text(config.isect_cost, config.trav_cost, config.empty_bonus,
-                                config.max_depth, config.max_leaf_size) +
-                    ")");
+        throw Error(
+            path + ": the tree was built with another configuration (" +
+            config_text(h.isect_cost, h.trav_cost, h.empty_bonus, h.max_depth, h.max_leaf_size) +
+            "; this build uses " +
+            config_text(config.isect_cost, config.trav_cost, config.empty_bonus, config.max_depth,
+                        config.max_leaf_size) +
+            ")");
 
     for (uint32_t t : tree.leaf_triangles)
         if (t >= h.triangles)
@@ -312,8 +315,7 @@ KdTree load_kd_tree(const std::string& path, const Scene& scene, const KdBuildCo
                         std::to_string(h.triangles) + ")");
     std::string why;
     if (check_subtree(tree, 0, 0, why) != tree.nodes.size())
-        throw Error(corrupt + " (" + (why.empty() ? "nodes after the tree's last one" : why) +
-                    ")");
+        throw Error(corrupt + " (" + (why.empty() ? "nodes after the tree's last one" : why) + ")");
 
     KdStats& s = tree.stats;
     s.triangles = h.triangles;

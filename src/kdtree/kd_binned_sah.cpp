@@ -4,8 +4,8 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
-#include <cstddef>
 #include <cmath>
+#include <cstddef>
 #include <vector>
 
 #include "core/float_step.h"

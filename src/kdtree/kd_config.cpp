@@ -16,7 +16,8 @@ void KdBuildConfig::validate() const {
         throw Error("kd-tree: traversal cost must be a positive number, got " +
                     std::to_string(trav_cost));
     if (!(empty_bonus >= 0.f && empty_bonus < 1.f))
-        throw Error("kd-tree: empty-space bonus must be in [0, 1), got " + std::to_string(empty_bonus));
+        throw Error("kd-tree: empty-space bonus must be in [0, 1), got " +
+                    std::to_string(empty_bonus));
     if (max_depth < 0 || max_depth > kd_max_depth)
         throw Error("kd-tree: maximum depth must be in 0.." + std::to_string(kd_max_depth) +
                     " (0 = automatic), got " + std::to_string(max_depth));

@@ -11,12 +11,12 @@
 namespace rtt::kd {
 
 struct SplitChoice {
-    int axis = -1;              ///< -1: no split that makes progress exists.
+    int axis = -1;  ///< -1: no split that makes progress exists.
     float pos = 0.f;
-    bool planar_left = false;   ///< Side of the triangles lying in the split plane (pside).
-    double cost = pos_inf;      ///< SAH cost relative to a ray that hits the node.
-    size_t left_count = 0;      ///< Triangles the cost counts in the below child (before
-    size_t right_count = 0;     ///< clipping, so at least what the children will hold).
+    bool planar_left = false;  ///< Side of the triangles lying in the split plane (pside).
+    double cost = pos_inf;     ///< SAH cost relative to a ray that hits the node.
+    size_t left_count = 0;     ///< Triangles the cost counts in the below child (before
+    size_t right_count = 0;    ///< clipping, so at least what the children will hold).
 };
 
 /// SAH cost of the splits of one node along one axis: lambda * (trav + isect * (P_L n_L +
@@ -24,8 +24,12 @@ struct SplitChoice {
 class AxisCost {
 public:
     AxisCost(int axis, const Bbox3f& box, size_t triangles, const KdBuildConfig& config)
-        : n_(triangles), trav_(config.trav_cost), isect_(config.isect_cost),
-          bonus_factor_(1.0 - double(config.empty_bonus)), lo_(box.lo[axis]), hi_(box.hi[axis]) {
+        : n_(triangles),
+          trav_(config.trav_cost),
+          isect_(config.isect_cost),
+          bonus_factor_(1.0 - double(config.empty_bonus)),
+          lo_(box.lo[axis]),
+          hi_(box.hi[axis]) {
         const Vec3f diag = box.diagonal();
         area_ = double(diag.x) * diag.y + double(diag.y) * diag.z + double(diag.z) * diag.x;
         inv_area_ = 1.0 / area_;

@@ -9,7 +9,8 @@ namespace rtt {
 KdStats compute_stats(const KdTree& tree, const KdBuildConfig& config) {
     KdStats s;
     s.nodes = tree.nodes.size();
-    s.memory_bytes = tree.nodes.size() * sizeof(KdNode) + tree.leaf_triangles.size() * sizeof(uint32_t);
+    s.memory_bytes =
+        tree.nodes.size() * sizeof(KdNode) + tree.leaf_triangles.size() * sizeof(uint32_t);
     if (tree.nodes.empty()) return s;
 
     // SAH cost: the probability that a random ray meeting the root also meets a node is the

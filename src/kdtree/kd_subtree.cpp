@@ -6,11 +6,14 @@
 
 namespace rtt::kd {
 
-void too_large(const std::string& what) { throw Error("scene too large for the kd-tree: " + what); }
+void too_large(const std::string& what) {
+    throw Error("scene too large for the kd-tree: " + what);
+}
 
 void Subtree::end_inner(size_t index, const SplitChoice& split) {
     const size_t above = nodes.size();
-    if (above > KdNode::max_index || !nodes[index].set_inner(split.axis, split.pos, uint32_t(above)))
+    if (above > KdNode::max_index ||
+        !nodes[index].set_inner(split.axis, split.pos, uint32_t(above)))
         too_large("more than 2^30 nodes");
 }
 

@@ -203,8 +203,10 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
             // per lane, which returns the same answers (trace_ray.h).
             const CornerVerdict v = test_corners<Q>(shaft, triangles[id], lane_tmax);
             switch (take_verdict<Q>(v, id, out, best, lane_tmax, closer)) {
-                case VerdictTaken::ok: break;
-                case VerdictTaken::blocked: return CornerStatus::blocked;
+                case VerdictTaken::ok:
+                    break;
+                case VerdictTaken::blocked:
+                    return CornerStatus::blocked;
                 case VerdictTaken::all_blocked:
                     return give_up(out, Decline::corners_parted, CornerStatus::overflow);
                 case VerdictTaken::list_full:

@@ -34,7 +34,8 @@ ListOutcome RttTracer::list_walk(const RayTile& tile, PrimaryShaft& p) const {
     };
     const CornerStatus status = cull_shaft<Query::closest_hit>(
         tree_, triangles_, p.shaft, walk_region,
-        walk_budget(n, is_region(tile.width, tile.height, tile.cell), false), tls_mailbox, res, narrow);
+        walk_budget(n, is_region(tile.width, tile.height, tile.cell), false), tls_mailbox, res,
+        narrow);
     p.declined = res.declined;
     if (status == CornerStatus::untraced) return ListOutcome::untraced;
     if (primary_end(p.shaft, p.corners, res.hit, p.end)) {

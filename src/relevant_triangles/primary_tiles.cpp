@@ -95,18 +95,18 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
     corners_of(tile, p.corners, p.cs);
     // The list procedure: the paper's under its rules; under rtt's, the lean pass for small
     // tiles from the apex, else the walk.
-    const ListProcedure procedure =
-        !extended_ ? ListProcedure::paper
-        : takes_lean_pass(n, options_.lean_max_samples, p.corners) ? ListProcedure::lean
-                                                                   : ListProcedure::walk;
+    const ListProcedure procedure = !extended_ ? ListProcedure::paper
+                                    : takes_lean_pass(n, options_.lean_max_samples, p.corners)
+                                        ? ListProcedure::lean
+                                        : ListProcedure::walk;
     // The lean pass builds the slope quad only when it first needs it (most that give up do
     // not).
     const bool shaft = procedure == ListProcedure::lean ? make_shaft_corners(p.corners, p.shaft)
                                                         : make_shaft(p.corners, p.shaft);
-    const ListOutcome outcome = !shaft ? ListOutcome::untraced
-                                : procedure == ListProcedure::lean  ? list_lean(tile, p)
-                                : procedure == ListProcedure::walk  ? list_walk(tile, p)
-                                                                    : list_paper(tile, p);
+    const ListOutcome outcome = !shaft                             ? ListOutcome::untraced
+                                : procedure == ListProcedure::lean ? list_lean(tile, p)
+                                : procedure == ListProcedure::walk ? list_walk(tile, p)
+                                                                   : list_paper(tile, p);
     if (!shaft) p.declined = Decline::no_shaft;
     if (outcome == ListOutcome::untraced) {
         const FallbackClock clock(st.fallback_ns);

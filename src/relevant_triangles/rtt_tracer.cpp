@@ -1,8 +1,9 @@
 // RttOptions' checks and the factory of the RTT tracers (rtt_tracer.h).
+#include "relevant_triangles/rtt_tracer.h"
+
 #include <memory>
 #include <string>
 
-#include "relevant_triangles/rtt_tracer.h"
 #include "rtt/error.h"
 #include "rtt/rtt_options.h"
 #include "trace/factories.h"

@@ -82,12 +82,23 @@ using tolerance::unit_roundoff;
 /// Adds a declined tile to the counter of its reason (corner_pass.h, Decline).
 inline void count_decline(TraceStats& st, Decline why) {
     switch (why) {
-        case Decline::none: break;
-        case Decline::no_shaft: ++st.declined_shaft; break;
-        case Decline::no_end: ++st.declined_end; break;
-        case Decline::budget: ++st.declined_budget; break;
-        case Decline::list_full: ++st.declined_list; break;
-        case Decline::corners_parted: ++st.declined_corners; break;
+        case Decline::none:
+            break;
+        case Decline::no_shaft:
+            ++st.declined_shaft;
+            break;
+        case Decline::no_end:
+            ++st.declined_end;
+            break;
+        case Decline::budget:
+            ++st.declined_budget;
+            break;
+        case Decline::list_full:
+            ++st.declined_list;
+            break;
+        case Decline::corners_parted:
+            ++st.declined_corners;
+            break;
     }
 }
 

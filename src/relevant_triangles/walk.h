@@ -258,18 +258,20 @@ CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> trian
             if (!triangle_meets(tri)) continue;
             const CornerVerdict cv = test_corners<Q>(shaft, tri, lane_tmax);
             switch (take_verdict<Q>(cv, id, out, best, lane_tmax, shortened)) {
-                case VerdictTaken::ok: break;
-                case VerdictTaken::blocked: return CornerStatus::blocked;
+                case VerdictTaken::ok:
+                    break;
+                case VerdictTaken::blocked:
+                    return CornerStatus::blocked;
                 case VerdictTaken::all_blocked:
                     return give_up(out, Decline::corners_parted, CornerStatus::overflow);
-                case VerdictTaken::list_full: return give_up(out, Decline::list_full);
+                case VerdictTaken::list_full:
+                    return give_up(out, Decline::list_full);
             }
         }
         if constexpr (!AnyHit) {
             if (shortened) {
                 const Narrowed r = narrow(best, region);
-                if (r == Narrowed::abandon)
-                    return give_up(out, Decline::no_end);
+                if (r == Narrowed::abandon) return give_up(out, Decline::no_end);
                 if (r == Narrowed::smaller) {
                     load_planes();
                     ++generation;

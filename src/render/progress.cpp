@@ -16,8 +16,10 @@ constexpr int bar_width = 40;
 ProgressBar::ProgressBar(uint64_t total, bool enabled, const char* label)
     : total_(total), label_(label), start_(std::chrono::steady_clock::now()) {
     if (!enabled) return;
-    if (isatty(STDERR_FILENO)) thread_ = std::thread([this] { run(); });
-    else summary_ = true;
+    if (isatty(STDERR_FILENO))
+        thread_ = std::thread([this] { run(); });
+    else
+        summary_ = true;
 }
 
 ProgressBar::~ProgressBar() {
@@ -64,8 +66,10 @@ void ProgressBar::draw(double seconds) {
     // Time left at the rate so far; tiles cost about the same on average over a frame.
     const double fraction = double(done) / double(total_);
     char left[32] = "";
-    if (fraction > 0.02) std::snprintf(left, sizeof left, ", %.1f s left", seconds * (1.0 - fraction) / fraction);
-    std::fprintf(stderr, "\r%s [%s] %3d%%  %.1f s%s   ", label_, bar, int(100.0 * fraction), seconds, left);
+    if (fraction > 0.02)
+        std::snprintf(left, sizeof left, ", %.1f s left", seconds * (1.0 - fraction) / fraction);
+    std::fprintf(stderr, "\r%s [%s] %3d%%  %.1f s%s   ", label_, bar, int(100.0 * fraction),
+                 seconds, left);
     std::fflush(stderr);
     drawn_ = true;
 }

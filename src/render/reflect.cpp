@@ -6,9 +6,9 @@
 // the mirror at t_hit continues, mirrored, as M(org + t dir) = M(org) + t R(dir) for t > t_hit.
 // So every reflected ray of the tile starts at one apex E' = M(org) with direction R(dir) and
 // the same parameter t: R is linear, so directions on a planar grid stay on a planar grid and
-// the 4 corner rays still bound every inner ray (docs/design.md, "Primary and reflected rays"). The rays start just
-// beyond the mirror, at t_hit (1 + delta): those points are the mirror's points scaled about
-// E' by 1 + delta, hence again on one plane, as RTT's start test needs.
+// the 4 corner rays still bound every inner ray (docs/design.md, "Primary and reflected rays"). The
+// rays start just beyond the mirror, at t_hit (1 + delta): those points are the mirror's points
+// scaled about E' by 1 + delta, hence again on one plane, as RTT's start test needs.
 //
 // How big delta must be: E' and the start points carry rounding of a few ulps of
 // M = |E| + |E'| + t; delta t_hit must exceed it with room to spare (32 eps M), or the mirror
@@ -61,7 +61,6 @@ bool build_shaft_batch(const RenderContext& ctx, const RayBatch& parent, std::sp
                             hits[i].t * (1.f + delta), pos_inf};
     return true;
 }
-
 
 /// The reflections of one 4x4-pixel tile (or of a batch that is not a region).
 void reflect_tile(const RenderContext& ctx, ThreadStats& ts, const RayBatch& batch,
@@ -121,7 +120,9 @@ void trace_reflections(const RenderContext& ctx, ThreadStats& ts, const RayBatch
     std::vector<Vec3f> cell_colors(cell.rays.size());
     for (int y0 = 0; y0 < batch.height; y0 += c)
         for (int x0 = 0; x0 < batch.width; x0 += c) {
-            const auto at = [&](int r, int i) { return size_t(y0 + r) * size_t(batch.width) + size_t(x0 + i); };
+            const auto at = [&](int r, int i) {
+                return size_t(y0 + r) * size_t(batch.width) + size_t(x0 + i);
+            };
             for (int r = 0; r < c; ++r)
                 for (int i = 0; i < c; ++i) {
                     const size_t k = size_t(r) * size_t(c) + size_t(i);
@@ -132,7 +133,8 @@ void trace_reflections(const RenderContext& ctx, ThreadStats& ts, const RayBatch
                 }
             reflect_tile(ctx, ts, cell, cell_hits, cell_surf, depth, cell_colors);
             for (int r = 0; r < c; ++r)
-                for (int i = 0; i < c; ++i) colors[at(r, i)] = cell_colors[size_t(r) * size_t(c) + size_t(i)];
+                for (int i = 0; i < c; ++i)
+                    colors[at(r, i)] = cell_colors[size_t(r) * size_t(c) + size_t(i)];
         }
 }
 

@@ -45,7 +45,8 @@ void RenderOptions::validate(size_t light_count) const {
         throw Error("reflection depth " + std::to_string(max_depth) + " out of range (0.." +
                     std::to_string(max_reflection_depth) + ")");
     if (region < 0 || region > max_region || region % 4 != 0)
-        throw Error("region " + std::to_string(region) + " out of range (0 = default, or a multiple of 4 up to " +
+        throw Error("region " + std::to_string(region) +
+                    " out of range (0 = default, or a multiple of 4 up to " +
                     std::to_string(max_region) + ")");
     if (threads < 0 || threads > max_render_threads)
         throw Error("thread count " + std::to_string(threads) + " out of range (1.." +
@@ -64,7 +65,9 @@ int default_region(int aa) {
     return aa == 1 ? 16 : aa <= 8 ? 8 : 4;
 }
 
-int RenderOptions::region_pixels() const { return region > 0 ? region : default_region(aa); }
+int RenderOptions::region_pixels() const {
+    return region > 0 ? region : default_region(aa);
+}
 
 namespace render_detail {
 namespace {
@@ -82,7 +85,8 @@ void render_region(const TileJob& job, int tx, int ty, int cols, int rows, Threa
     const int k = opt.aa, n = 4 * k * cols, spp = k * k;
     const int w = opt.width, h = opt.height;
 
-    RayBatch batch{n, 4 * k * rows, true, std::vector<Ray>(size_t(n) * size_t(4 * k * rows)), 4 * k};
+    RayBatch batch{n, 4 * k * rows, true, std::vector<Ray>(size_t(n) * size_t(4 * k * rows)),
+                   4 * k};
     job.camera.region_rays(tx, ty, cols, rows, batch.rays);
 
     PrimaryRecord record;
@@ -194,20 +198,24 @@ RenderStats render_bands(const Scene& scene, const Tracer& tracer, const RenderO
             // Regions on the image's grid of region_tiles x region_tiles tiles, cut by the
             // band and the image's edge (the answers do not depend on how tiles are grouped).
             const int end_row = first_tile_row + tile_rows;
-            const int region_rows = (end_row - 1) / region_tiles - first_tile_row / region_tiles + 1;
+            const int region_rows =
+                (end_row - 1) / region_tiles - first_tile_row / region_tiles + 1;
             const int first_region_row = first_tile_row / region_tiles;
             arena.execute([&] {
-                tbb::parallel_for(tbb::blocked_range<int>(0, region_rows * regions_x), [&](const tbb::blocked_range<int>& r) {
-                    ThreadStats& ts = per_thread.local();
-                    for (int i = r.begin(); i < r.end(); ++i) {
-                        const int rx = i % regions_x, ry = first_region_row + i / regions_x;
-                        const int tx = rx * region_tiles, cols = std::min(region_tiles, tiles_x - tx);
-                        const int ty = std::max(ry * region_tiles, first_tile_row);
-                        const int rows = std::min((ry + 1) * region_tiles, end_row) - ty;
-                        render_region(job, tx, ty, cols, rows, ts);
-                        progress.advance(uint64_t(cols) * uint64_t(rows));
-                    }
-                });
+                tbb::parallel_for(
+                    tbb::blocked_range<int>(0, region_rows * regions_x),
+                    [&](const tbb::blocked_range<int>& r) {
+                        ThreadStats& ts = per_thread.local();
+                        for (int i = r.begin(); i < r.end(); ++i) {
+                            const int rx = i % regions_x, ry = first_region_row + i / regions_x;
+                            const int tx = rx * region_tiles,
+                                      cols = std::min(region_tiles, tiles_x - tx);
+                            const int ty = std::max(ry * region_tiles, first_tile_row);
+                            const int rows = std::min((ry + 1) * region_tiles, end_row) - ty;
+                            render_region(job, tx, ty, cols, rows, ts);
+                            progress.advance(uint64_t(cols) * uint64_t(rows));
+                        }
+                    });
             });
             band_done(band);
         }

@@ -264,10 +264,12 @@ void reap(pid_t pid, const std::string& path) {
     if (WIFSIGNALED(status))
         throw Error(path, 0,
                     "the importer (assimp) crashed on this file (signal " +
-                        std::to_string(WTERMSIG(status)) + "); the file is malformed or not supported");
+                        std::to_string(WTERMSIG(status)) +
+                        "); the file is malformed or not supported");
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-        throw Error(path, 0, "the importer (assimp) failed on this file (exit status " +
-                                 std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")");
+        throw Error(path, 0,
+                    "the importer (assimp) failed on this file (exit status " +
+                        std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")");
 }
 
 }  // namespace
@@ -297,7 +299,8 @@ Scene import_assimp_isolated(const std::string& path) {
         const int err = errno;
         close(fds[0]);
         close(fds[1]);
-        throw Error(path, 0, std::string("cannot start the importer process: ") + std::strerror(err));
+        throw Error(path, 0,
+                    std::string("cannot start the importer process: ") + std::strerror(err));
     }
     if (pid == 0) {
         close(fds[0]);

@@ -13,7 +13,9 @@ using namespace proc;
 
 namespace {
 
-Vec3f apply(const Xform& x, const Vec3f& p) { return x.point(p); }
+Vec3f apply(const Xform& x, const Vec3f& p) {
+    return x.point(p);
+}
 
 }  // namespace
 
@@ -45,14 +47,16 @@ OfficeLayout build_office(Scene& scene, SceneBuilder& b) {
     m.lamp = b.material(phong("lamp", {0.8f, 0.3f, 0.08f}, Vec3f{0.4f}, 60.f));
     const uint32_t board = b.material(phong("whiteboard", {0.9f, 0.9f, 0.9f}, Vec3f{0.4f}, 80.f));
     const uint32_t glass = b.material(phong("window_sky", {0.8f, 0.88f, 0.97f}));
-    const uint32_t frame_mat = b.material(phong("window_frame", {0.55f, 0.56f, 0.58f}, Vec3f{0.2f}, 40.f));
+    const uint32_t frame_mat =
+        b.material(phong("window_frame", {0.55f, 0.56f, 0.58f}, Vec3f{0.2f}, 40.f));
     const uint32_t diffuser = b.material(phong("light_diffuser", {0.95f, 0.95f, 0.93f}));
     const uint32_t wood = b.material(phong("shelf_wood", {0.5f, 0.36f, 0.22f}, Vec3f{0.15f}, 40.f));
     const uint32_t screen_panel = b.material(phong("screen_panel", {0.45f, 0.48f, 0.52f}));
     std::vector<uint32_t> books;
-    const Vec3f book_colours[] = {{0.55f, 0.1f, 0.1f}, {0.1f, 0.25f, 0.5f}, {0.15f, 0.4f, 0.2f},
+    const Vec3f book_colours[] = {{0.55f, 0.1f, 0.1f}, {0.1f, 0.25f, 0.5f},   {0.15f, 0.4f, 0.2f},
                                   {0.85f, 0.8f, 0.6f}, {0.12f, 0.12f, 0.12f}, {0.9f, 0.6f, 0.1f}};
-    for (const Vec3f& c : book_colours) books.push_back(b.material(phong("binder", c, Vec3f{0.1f}, 20.f)));
+    for (const Vec3f& c : book_colours)
+        books.push_back(b.material(phong("binder", c, Vec3f{0.1f}, 20.f)));
     const uint32_t ornaments[] = {m.mug, m.chrome};
 
     room_shell(b, size, shell, 1.f);
@@ -71,7 +75,9 @@ OfficeLayout build_office(Scene& scene, SceneBuilder& b) {
     for (int i = 0; i < 4; ++i) {
         const float along = 2.2f + 0.52f * float(i);
         filing_cabinet(b, wall_frame(size, 1, along), m);
-        if (i % 2 == 0) layout.shelf_spots.push_back({apply(wall_frame(size, 1, along), {0.25f, 1.3f, 0.3f}), 0.22f});
+        if (i % 2 == 0)
+            layout.shelf_spots.push_back(
+                {apply(wall_frame(size, 1, along), {0.25f, 1.3f, 0.3f}), 0.22f});
     }
     bookshelf(b, wall_frame(size, 1, 4.6f), 1.8f, 2.1f, 0.4f, 5, wood, books, ornaments, rng);
     // Right wall: whiteboard and door; front wall: cabinets and a shelf.
@@ -80,12 +86,14 @@ OfficeLayout build_office(Scene& scene, SceneBuilder& b) {
     for (int i = 0; i < 3; ++i) {
         const float along = 5.5f + 0.52f * float(i);
         filing_cabinet(b, wall_frame(size, 3, along), m);
-        layout.shelf_spots.push_back({apply(wall_frame(size, 3, along), {0.25f, 1.3f, 0.3f}), 0.22f});
+        layout.shelf_spots.push_back(
+            {apply(wall_frame(size, 3, along), {0.25f, 1.3f, 0.3f}), 0.22f});
     }
     bookshelf(b, wall_frame(size, 3, 8.0f), 1.6f, 2.1f, 0.4f, 5, wood, books, ornaments, rng);
 
     // Four clusters of four desks, back to back in pairs with a screen between the rows.
-    const Vec3f clusters[4] = {{3.4f, 0.f, 2.9f}, {8.4f, 0.f, 2.9f}, {3.4f, 0.f, 6.1f}, {8.4f, 0.f, 6.1f}};
+    const Vec3f clusters[4] = {
+        {3.4f, 0.f, 2.9f}, {8.4f, 0.f, 2.9f}, {3.4f, 0.f, 6.1f}, {8.4f, 0.f, 6.1f}};
     int desk_index = 0;
     for (const Vec3f& c : clusters) {
         b.add(screen_panel, rounded_box({1.62f, 0.22f, 0.02f}, 0.015f, 3),
@@ -93,32 +101,43 @@ OfficeLayout build_office(Scene& scene, SceneBuilder& b) {
         for (int row = 0; row < 2; ++row)
             for (int col = 0; col < 2; ++col, ++desk_index) {
                 const float facing = row == 0 ? 0.f : pi;
-                const Vec3f centre = c + Vec3f{col == 0 ? -0.81f : 0.81f, 0.f, row == 0 ? 0.42f : -0.42f};
+                const Vec3f centre =
+                    c + Vec3f{col == 0 ? -0.81f : 0.81f, 0.f, row == 0 ? 0.42f : -0.42f};
                 const Xform at = Xform::translate(centre) * Xform::rotate_y(facing);
                 desk(b, at, m);
                 const Xform top = at * Xform::translate({0.f, desk_height, 0.f});
                 monitor(b, top * Xform::translate({0.05f, 0.f, -0.17f}), m);
                 keyboard(b, top * Xform::translate({0.f, 0.f, 0.15f}), m);
-                if (desk_index % 3 == 0) desk_lamp(b, top * Xform::translate({-0.62f, 0.f, -0.22f}) * Xform::rotate_y(0.6f), m);
-                else layout.desk_spots.push_back({apply(top, {-0.6f, 0.f, -0.22f}), 0.16f});
+                if (desk_index % 3 == 0)
+                    desk_lamp(b,
+                              top * Xform::translate({-0.62f, 0.f, -0.22f}) * Xform::rotate_y(0.6f),
+                              m);
+                else
+                    layout.desk_spots.push_back({apply(top, {-0.6f, 0.f, -0.22f}), 0.16f});
                 if (desk_index % 2 == 0) mug(b, top * Xform::translate({0.48f, 0.f, 0.05f}), m);
-                papers(b, top * Xform::translate({-0.5f, 0.f, 0.12f}) * Xform::rotate_y(rng.range(-0.2f, 0.2f)), m, rng);
+                papers(b,
+                       top * Xform::translate({-0.5f, 0.f, 0.12f}) *
+                           Xform::rotate_y(rng.range(-0.2f, 0.2f)),
+                       m, rng);
                 layout.desk_spots.push_back({apply(top, {0.6f, 0.f, -0.25f}), 0.16f});
                 // The chair, pulled out and swivelled a little.
                 const float swivel = rng.range(-0.5f, 0.5f);
-                office_chair(b, at * Xform::translate({rng.range(-0.15f, 0.15f), 0.f, 0.62f + rng.range(0.f, 0.2f)}) *
-                                    Xform::rotate_y(pi + swivel), m);
+                office_chair(b,
+                             at *
+                                 Xform::translate({rng.range(-0.15f, 0.15f), 0.f,
+                                                   0.62f + rng.range(0.f, 0.2f)}) *
+                                 Xform::rotate_y(pi + swivel),
+                             m);
             }
         waste_bin(b, Xform::translate(c + Vec3f{1.82f, 0.f, 0.3f}), m);
         // The outer end of each cluster is left free for a planter.
         layout.planter_spots.push_back(c + Vec3f{c.x < 0.5f * size.x ? -1.9f : 1.9f, 0.f, 0.f});
     }
     // Reaches keep 5 cm or more from walls, sills, cabinets, chairs and the planters.
-    layout.floor_spots = {{{0.75f, 0.f, 0.75f}, 0.5f},  {{11.25f, 0.f, 0.75f}, 0.5f},
-                          {{6.05f, 0.f, 0.75f}, 0.55f}, {{6.0f, 0.f, 4.5f}, 0.8f},
-                          {{11.35f, 0.f, 6.05f}, 0.6f}, {{11.35f, 0.f, 1.9f}, 0.6f},
-                          {{0.9f, 0.f, 7.8f}, 0.75f},   {{9.0f, 0.f, 8.45f}, 0.5f},
-                          {{5.9f, 0.f, 7.6f}, 0.7f}};
+    layout.floor_spots = {
+        {{0.75f, 0.f, 0.75f}, 0.5f}, {{11.25f, 0.f, 0.75f}, 0.5f}, {{6.05f, 0.f, 0.75f}, 0.55f},
+        {{6.0f, 0.f, 4.5f}, 0.8f},   {{11.35f, 0.f, 6.05f}, 0.6f}, {{11.35f, 0.f, 1.9f}, 0.6f},
+        {{0.9f, 0.f, 7.8f}, 0.75f},  {{9.0f, 0.f, 8.45f}, 0.5f},   {{5.9f, 0.f, 7.6f}, 0.7f}};
 
     // 16 omni lights in a 4 x 4 grid, 0.55 m below ceiling panels.
     for (int i = 0; i < 4; ++i)

@@ -43,8 +43,10 @@ Scene make_plants_scene() {
     const uint32_t planter = b.material(phong("planter", {0.3f, 0.3f, 0.32f}, Vec3f{0.2f}, 40.f));
     for (const Vec3f& p : layout.planter_spots) {
         const float h = 0.45f;
-        b.add(planter, rounded_box({0.2f, 0.5f * h, 0.75f}, 0.02f, 2), Xform::translate(p + Vec3f{0.f, 0.5f * h, 0.f}));
-        b.add(m.soil, quad_grid(p + Vec3f{-0.18f, h + 0.001f, -0.73f}, {0.f, 0.f, 1.46f}, {0.36f, 0.f, 0.f}, 4, 1));
+        b.add(planter, rounded_box({0.2f, 0.5f * h, 0.75f}, 0.02f, 2),
+              Xform::translate(p + Vec3f{0.f, 0.5f * h, 0.f}));
+        b.add(m.soil, quad_grid(p + Vec3f{-0.18f, h + 0.001f, -0.73f}, {0.f, 0.f, 1.46f},
+                                {0.36f, 0.f, 0.f}, 4, 1));
         for (int k = 0; k < 3; ++k) {
             SceneRng rng(seed++);
             const Xform at = Xform::translate(p + Vec3f{0.f, 0.f, 0.5f * float(k - 1)}) *
@@ -59,7 +61,8 @@ Scene make_plants_scene() {
     }
     for (const PlantSpot& s : layout.shelf_spots) {
         SceneRng rng(seed++);
-        pilea(b, Xform::translate(s.position) * Xform::rotate_y(rng.range(0.f, 2.f * pi)), s.reach, m, rng);
+        pilea(b, Xform::translate(s.position) * Xform::rotate_y(rng.range(0.f, 2.f * pi)), s.reach,
+              m, rng);
     }
     b.finish();
     return scene;

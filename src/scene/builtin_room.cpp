@@ -41,30 +41,38 @@ Scene make_room_scene() {
         b.material(phong("skirting", {0.9f, 0.9f, 0.88f}, Vec3f{0.1f}, 30.f))};
     const uint32_t walnut = b.material(phong("walnut", {0.3f, 0.17f, 0.09f}, Vec3f{0.25f}, 60.f));
     const uint32_t oak = b.material(phong("light_wood", {0.62f, 0.45f, 0.27f}, Vec3f{0.2f}, 50.f));
-    const uint32_t seat = b.material(phong("seat_leather", {0.45f, 0.12f, 0.08f}, Vec3f{0.2f}, 30.f));
+    const uint32_t seat =
+        b.material(phong("seat_leather", {0.45f, 0.12f, 0.08f}, Vec3f{0.2f}, 30.f));
     const uint32_t fabric = b.material(phong("sofa_fabric", {0.2f, 0.3f, 0.42f}));
     const uint32_t cushion = b.material(phong("sofa_cushion", {0.24f, 0.36f, 0.5f}));
     const uint32_t pillow = b.material(phong("pillow", {0.85f, 0.62f, 0.2f}));
-    const uint32_t metal = b.material(phong("brushed_metal", {0.5f, 0.5f, 0.52f}, Vec3f{0.6f}, 80.f));
-    const uint32_t brass = b.material(phong("brass", {0.55f, 0.42f, 0.16f}, Vec3f{0.7f, 0.6f, 0.35f}, 90.f));
+    const uint32_t metal =
+        b.material(phong("brushed_metal", {0.5f, 0.5f, 0.52f}, Vec3f{0.6f}, 80.f));
+    const uint32_t brass =
+        b.material(phong("brass", {0.55f, 0.42f, 0.16f}, Vec3f{0.7f, 0.6f, 0.35f}, 90.f));
     const uint32_t shade = b.material(phong("lamp_shade", {0.92f, 0.86f, 0.72f}));
     const uint32_t rug = b.material(phong("rug", {0.55f, 0.22f, 0.18f}));
-    const uint32_t ceramic = b.material(phong("ceramic_white", {0.85f, 0.85f, 0.82f}, Vec3f{0.5f}, 120.f));
-    const uint32_t ceramic_blue = b.material(phong("ceramic_blue", {0.12f, 0.25f, 0.6f}, Vec3f{0.5f}, 120.f));
-    const uint32_t ceramic_green = b.material(phong("ceramic_green", {0.2f, 0.45f, 0.3f}, Vec3f{0.4f}, 100.f));
+    const uint32_t ceramic =
+        b.material(phong("ceramic_white", {0.85f, 0.85f, 0.82f}, Vec3f{0.5f}, 120.f));
+    const uint32_t ceramic_blue =
+        b.material(phong("ceramic_blue", {0.12f, 0.25f, 0.6f}, Vec3f{0.5f}, 120.f));
+    const uint32_t ceramic_green =
+        b.material(phong("ceramic_green", {0.2f, 0.45f, 0.3f}, Vec3f{0.4f}, 100.f));
     const uint32_t orange = b.material(phong("orange", {0.9f, 0.45f, 0.05f}, Vec3f{0.2f}, 40.f));
     const uint32_t apple = b.material(phong("apple", {0.6f, 0.08f, 0.06f}, Vec3f{0.3f}, 60.f));
     const uint32_t glass = b.material(phong("window_sky", {0.8f, 0.88f, 0.97f}));
-    const uint32_t white_frame = b.material(phong("window_frame", {0.88f, 0.88f, 0.86f}, Vec3f{0.15f}, 40.f));
+    const uint32_t white_frame =
+        b.material(phong("window_frame", {0.88f, 0.88f, 0.86f}, Vec3f{0.15f}, 40.f));
     const uint32_t curtain_mat = b.material(phong("curtain", {0.7f, 0.6f, 0.42f}));
     const uint32_t canvas_a = b.material(phong("painting_a", {0.2f, 0.4f, 0.55f}));
     const uint32_t canvas_b = b.material(phong("painting_b", {0.75f, 0.55f, 0.25f}));
     const uint32_t mirror = b.material(phong("mirror", Vec3f{0.03f}, Vec3f{0.3f}, 200.f, 0.85f));
     std::vector<uint32_t> books;
-    const Vec3f book_colours[] = {{0.55f, 0.1f, 0.1f}, {0.1f, 0.25f, 0.5f}, {0.15f, 0.4f, 0.2f},
-                                  {0.8f, 0.7f, 0.45f}, {0.12f, 0.12f, 0.12f}, {0.6f, 0.35f, 0.1f},
+    const Vec3f book_colours[] = {{0.55f, 0.1f, 0.1f},  {0.1f, 0.25f, 0.5f},   {0.15f, 0.4f, 0.2f},
+                                  {0.8f, 0.7f, 0.45f},  {0.12f, 0.12f, 0.12f}, {0.6f, 0.35f, 0.1f},
                                   {0.85f, 0.85f, 0.8f}, {0.35f, 0.15f, 0.4f}};
-    for (const Vec3f& c : book_colours) books.push_back(b.material(phong("book", c, Vec3f{0.08f}, 20.f)));
+    for (const Vec3f& c : book_colours)
+        books.push_back(b.material(phong("book", c, Vec3f{0.08f}, 20.f)));
     const uint32_t ornaments[] = {ceramic, ceramic_blue, ceramic_green, brass};
 
     room_shell(b, size, shell, 0.75f);
@@ -92,8 +100,10 @@ Scene make_room_scene() {
     // Right wall (x = 6): the sofa, two pictures above it.
     sofa(b, Xform::translate({size.x - 0.47f, 0.f, 2.45f}) * Xform::rotate_y(-0.5f * pi), fabric,
          cushion, pillow, walnut);
-    picture(b, wall_frame(size, 2, 1.45f) * Xform::translate({0.f, 1.35f, 0.f}), 0.9f, 0.7f, walnut, canvas_a);
-    picture(b, wall_frame(size, 2, 2.6f) * Xform::translate({0.f, 1.45f, 0.f}), 0.6f, 0.5f, walnut, canvas_b);
+    picture(b, wall_frame(size, 2, 1.45f) * Xform::translate({0.f, 1.35f, 0.f}), 0.9f, 0.7f, walnut,
+            canvas_a);
+    picture(b, wall_frame(size, 2, 2.6f) * Xform::translate({0.f, 1.45f, 0.f}), 0.6f, 0.5f, walnut,
+            canvas_b);
 
     // Front wall (z = 5): the door and a small bookshelf.
     door(b, wall_frame(size, 3, 4.3f), oak, brass);
@@ -110,7 +120,8 @@ Scene make_room_scene() {
         dining_chair(b, Xform::translate(table + offset) * Xform::rotate_y(a + pi), oak, seat);
     }
     fruit_bowl(b, Xform::translate(table + Vec3f{0.12f, 0.755f, 0.1f}), ceramic, orange, apple);
-    b.add(ceramic_green, vase(0.3f, 3, 48), Xform::translate(table + Vec3f{-0.22f, 0.755f, -0.15f}));
+    b.add(ceramic_green, vase(0.3f, 3, 48),
+          Xform::translate(table + Vec3f{-0.22f, 0.755f, -0.15f}));
     b.add(ceramic, sphere(0.05f, 32, 16), Xform::translate(table + Vec3f{-0.05f, 0.805f, -0.3f}));
 
     // Floor lamp by the windows, a tall floor vase, spheres on the floor in a corner.
@@ -118,7 +129,8 @@ Scene make_room_scene() {
     b.add(ceramic_blue, vase(0.7f, 0, 48), Xform::translate({0.3f, 0.f, 1.9f}));
     for (int i = 0; i < 3; ++i)
         b.add(i == 1 ? brass : ceramic, sphere(0.09f + 0.03f * float(i), 40, 20),
-              Xform::translate({0.35f + 0.3f * float(i), 0.09f + 0.03f * float(i), 4.6f - 0.05f * float(i)}));
+              Xform::translate(
+                  {0.35f + 0.3f * float(i), 0.09f + 0.03f * float(i), 4.6f - 0.05f * float(i)}));
 
     // Seven ceiling spots, each light 7 cm below its fitting.
     const float ceiling = size.y;

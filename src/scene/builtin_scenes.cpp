@@ -15,7 +15,8 @@ struct Entry {
 };
 
 constexpr Entry entries[] = {
-    {"room", "furnished living room, one planar mirror, 7 spot lights (analogue of the paper's ROOM)",
+    {"room",
+     "furnished living room, one planar mirror, 7 spot lights (analogue of the paper's ROOM)",
      make_room_scene},
     {"office", "office with desks, chairs, monitors and keyboards, 16 omni lights (paper's OFFICE)",
      make_office_scene},

@@ -8,7 +8,9 @@ namespace rtt::proc {
 
 namespace {
 
-int cell_count(float length, float cell) { return std::max(1, int(std::ceil(length / cell - 1e-4f))); }
+int cell_count(float length, float cell) {
+    return std::max(1, int(std::ceil(length / cell - 1e-4f)));
+}
 
 }  // namespace
 
@@ -33,10 +35,15 @@ void room_shell(SceneBuilder& b, const Vec3f& size, const ShellMaterials& m, flo
 Xform wall_frame(const Vec3f& size, int wall, float along) {
     const Vec3f up{0.f, 1.f, 0.f};
     switch (wall) {
-        case 0: return Xform::basis({1.f, 0.f, 0.f}, up, {0.f, 0.f, 1.f}, {along, 0.f, 0.f});
-        case 1: return Xform::basis({0.f, 0.f, -1.f}, up, {1.f, 0.f, 0.f}, {0.f, 0.f, size.z - along});
-        case 2: return Xform::basis({0.f, 0.f, 1.f}, up, {-1.f, 0.f, 0.f}, {size.x, 0.f, along});
-        default: return Xform::basis({-1.f, 0.f, 0.f}, up, {0.f, 0.f, -1.f}, {size.x - along, 0.f, size.z});
+        case 0:
+            return Xform::basis({1.f, 0.f, 0.f}, up, {0.f, 0.f, 1.f}, {along, 0.f, 0.f});
+        case 1:
+            return Xform::basis({0.f, 0.f, -1.f}, up, {1.f, 0.f, 0.f}, {0.f, 0.f, size.z - along});
+        case 2:
+            return Xform::basis({0.f, 0.f, 1.f}, up, {-1.f, 0.f, 0.f}, {size.x, 0.f, along});
+        default:
+            return Xform::basis({-1.f, 0.f, 0.f}, up, {0.f, 0.f, -1.f},
+                                {size.x - along, 0.f, size.z});
     }
 }
 
@@ -47,10 +54,13 @@ void window(SceneBuilder& b, const Xform& at, float w, float h, const WindowMate
     b.add(m.frame, rounded_block({0.f, h, 0.f}, {w, h + fw, fd}, r, 2), at);
     b.add(m.frame, rounded_block({0.f, -fw, 0.f}, {w, 0.f, fd}, r, 2), at);
     const float mw = 0.025f, md = 0.045f, split = h * 0.64f;
-    b.add(m.frame, rounded_block({w * 0.5f - mw, 0.f, 0.005f}, {w * 0.5f + mw, h, md}, 0.008f, 2), at);
+    b.add(m.frame, rounded_block({w * 0.5f - mw, 0.f, 0.005f}, {w * 0.5f + mw, h, md}, 0.008f, 2),
+          at);
     b.add(m.frame, rounded_block({0.f, split - mw, 0.005f}, {w, split + mw, md}, 0.008f, 2), at);
     b.add(m.glass, quad_grid({0.f, 0.f, 0.01f}, {w, 0.f, 0.f}, {0.f, h, 0.f}, 2, 2), at);
-    b.add(m.sill, rounded_block({-fw - 0.06f, -fw - 0.04f, 0.f}, {w + fw + 0.06f, -fw, 0.22f}, 0.012f, 3), at);
+    b.add(m.sill,
+          rounded_block({-fw - 0.06f, -fw - 0.04f, 0.f}, {w + fw + 0.06f, -fw, 0.22f}, 0.012f, 3),
+          at);
 }
 
 void curtain(SceneBuilder& b, const Xform& at, float w, float top, float offset, uint32_t mat) {
@@ -74,7 +84,8 @@ void curtain(SceneBuilder& b, const Xform& at, float w, float top, float offset,
         }
     b.add(mat, m, at);
     // The rod it hangs from.
-    const Vec3f rod[2] = {{-0.05f, top + 0.04f, offset + 0.04f}, {w + 0.05f, top + 0.04f, offset + 0.04f}};
+    const Vec3f rod[2] = {{-0.05f, top + 0.04f, offset + 0.04f},
+                          {w + 0.05f, top + 0.04f, offset + 0.04f}};
     const float rr[2] = {0.012f, 0.012f};
     b.add(mat, tube(rod, rr, 12, true), at);
 }
@@ -83,11 +94,17 @@ Mesh vase(float h, int style, int segments) {
     const int n = 18;
     auto shape = [style](float t) {
         switch (style) {
-            case 0: return 0.45f + 0.55f * std::sin(pi * t * 1.1f) + 0.3f * std::pow(t, 8.f);
-            case 1: return 0.75f + 0.25f * t + 0.05f * std::sin(pi * t * 3.f);
-            case 2: return t < 0.55f ? 1.f - 0.08f * t
-                                     : 0.3f + 0.656f * 0.5f * (1.f + std::cos(pi * std::min(1.f, (t - 0.55f) / 0.3f)));
-            default: return 0.45f + 0.55f * std::sin(0.5f * pi * t);
+            case 0:
+                return 0.45f + 0.55f * std::sin(pi * t * 1.1f) + 0.3f * std::pow(t, 8.f);
+            case 1:
+                return 0.75f + 0.25f * t + 0.05f * std::sin(pi * t * 3.f);
+            case 2:
+                return t < 0.55f
+                           ? 1.f - 0.08f * t
+                           : 0.3f + 0.656f * 0.5f *
+                                        (1.f + std::cos(pi * std::min(1.f, (t - 0.55f) / 0.3f)));
+            default:
+                return 0.45f + 0.55f * std::sin(0.5f * pi * t);
         }
     };
     const float radius = h * (style == 3 ? 0.45f : 0.28f), wall = 0.06f * radius + 0.003f;
@@ -120,14 +137,16 @@ void bookshelf(SceneBuilder& b, const Xform& at, float w, float h, float d, int 
     const float spacing = (h - t - plinth) / float(shelves);
     for (int s = 0; s < shelves; ++s) {
         const float y = plinth + spacing * float(s);
-        if (s > 0) b.add(wood, rounded_block({t, y - t, 0.008f}, {w - t, y, d - 0.004f}, 0.004f, 1), at);
+        if (s > 0)
+            b.add(wood, rounded_block({t, y - t, 0.008f}, {w - t, y, d - 0.004f}, 0.004f, 1), at);
         float x = t + 0.01f;
         const float end = w - t - 0.01f;
         while (x < end) {
             const float roll = rng.uniform();
             if (roll < 0.08f && !ornament_materials.empty() && end - x > 0.16f) {
                 // An ornament: a small vase or a sphere on a stand.
-                const uint32_t mat = ornament_materials[rng.below(uint32_t(ornament_materials.size()))];
+                const uint32_t mat =
+                    ornament_materials[rng.below(uint32_t(ornament_materials.size()))];
                 const float oh = std::min(spacing - 0.06f, rng.range(0.12f, 0.22f));
                 const Vec3f base{x + 0.08f, y, d * 0.5f};
                 if (rng.uniform() < 0.6f) {
@@ -148,7 +167,9 @@ void bookshelf(SceneBuilder& b, const Xform& at, float w, float h, float d, int 
             const float bh = std::min(spacing - 0.03f, rng.range(0.17f, 0.29f));
             const float bd = rng.range(0.14f, std::min(0.24f, d - 0.04f));
             const uint32_t mat = book_materials[rng.below(uint32_t(book_materials.size()))];
-            b.add(mat, rounded_block({x, y, d - 0.015f - bd}, {x + bw, y + bh, d - 0.015f}, 0.003f, 1), at);
+            b.add(mat,
+                  rounded_block({x, y, d - 0.015f - bd}, {x + bw, y + bh, d - 0.015f}, 0.003f, 1),
+                  at);
             x += bw + 0.001f;
         }
     }
@@ -162,10 +183,13 @@ void frame(SceneBuilder& b, const Xform& at, float w, float h, uint32_t mat) {
     b.add(mat, rounded_block({fw, h - fw, 0.f}, {w - fw, h, fd}, r, 2), at);
 }
 
-void picture(SceneBuilder& b, const Xform& at, float w, float h, uint32_t frame_mat, uint32_t canvas) {
+void picture(SceneBuilder& b, const Xform& at, float w, float h, uint32_t frame_mat,
+             uint32_t canvas) {
     const float fw = 0.05f;
     frame(b, at, w, h, frame_mat);
-    b.add(canvas, quad_grid({fw, fw, 0.012f}, {w - 2.f * fw, 0.f, 0.f}, {0.f, h - 2.f * fw, 0.f}, 1, 1), at);
+    b.add(canvas,
+          quad_grid({fw, fw, 0.012f}, {w - 2.f * fw, 0.f, 0.f}, {0.f, h - 2.f * fw, 0.f}, 1, 1),
+          at);
 }
 
 void door(SceneBuilder& b, const Xform& at, uint32_t wood, uint32_t metal) {
@@ -177,12 +201,14 @@ void door(SceneBuilder& b, const Xform& at, uint32_t wood, uint32_t metal) {
     for (int i = 0; i < 2; ++i)
         for (int j = 0; j < 2; ++j) {
             const float x0 = 0.1f + float(i) * 0.38f, y0 = 0.15f + float(j) * 0.98f;
-            b.add(wood, rounded_block({x0, y0, 0.015f}, {x0 + 0.32f, y0 + 0.8f, 0.032f}, 0.006f, 2), at);
+            b.add(wood, rounded_block({x0, y0, 0.015f}, {x0 + 0.32f, y0 + 0.8f, 0.032f}, 0.006f, 2),
+                  at);
         }
     const Xform knob = at * Xform::translate({w - 0.09f, 1.02f, 0.02f}) * Xform::rotate_x(pi / 2.f);
     b.add(metal, cylinder(0.03f, 0.03f, 0.01f, 24), knob);
     b.add(metal, cylinder(0.01f, 0.01f, 0.06f, 16), knob);
-    const Vec3f lever[4] = {{0.f, 0.06f, 0.f}, {-0.03f, 0.065f, 0.f}, {-0.08f, 0.065f, 0.f}, {-0.12f, 0.06f, 0.f}};
+    const Vec3f lever[4] = {
+        {0.f, 0.06f, 0.f}, {-0.03f, 0.065f, 0.f}, {-0.08f, 0.065f, 0.f}, {-0.12f, 0.06f, 0.f}};
     const float lr[4] = {0.01f, 0.009f, 0.009f, 0.01f};
     b.add(metal, tube(lever, lr, 12, true), knob);
 }

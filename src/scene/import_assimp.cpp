@@ -339,9 +339,9 @@ Scene import_assimp(const std::string& path) {
     const aiScene* ai = nullptr;
     try {
         // A repaired PLY is read from memory (a PLY refers to no other file).
-        ai = ply.repaired.empty() ? importer.ReadFile(path, 0)
-                                  : importer.ReadFileFromMemory(ply.repaired.data(),
-                                                                ply.repaired.size(), 0, "ply");
+        ai = ply.repaired.empty()
+                 ? importer.ReadFile(path, 0)
+                 : importer.ReadFileFromMemory(ply.repaired.data(), ply.repaired.size(), 0, "ply");
     } catch (const std::exception& e) {
         // ReadFile turns exceptions into GetErrorString() only when assimp was built with
         // ASSIMP_CATCH_GLOBAL_EXCEPTIONS (Debian's is); other builds let std::bad_alloc escape.

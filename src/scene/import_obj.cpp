@@ -217,8 +217,8 @@ private:
             const std::string& name = material_names_[i];
             const auto m = mtl_.find(name);
             if (m == mtl_.end() && !name.empty())
-                scene_.warn(path_ + ":" + std::to_string(material_lines_[i]) + ": material '" + name +
-                            "' is in no material library; grey instead");
+                scene_.warn(path_ + ":" + std::to_string(material_lines_[i]) + ": material '" +
+                            name + "' is in no material library; grey instead");
             scene_.add_material(m == mtl_.end() ? Material{} : m->second);
         }
     }

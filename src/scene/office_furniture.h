@@ -7,8 +7,8 @@
 namespace rtt::proc {
 
 struct OfficeMaterials {
-    uint32_t desk_top, desk_frame, chair_fabric, chair_plastic, chrome, monitor, screen,
-        keyboard, keys, paper, mug, partition, cabinet, handle, lamp;
+    uint32_t desk_top, desk_frame, chair_fabric, chair_plastic, chrome, monitor, screen, keyboard,
+        keys, paper, mug, partition, cabinet, handle, lamp;
 };
 
 /// Desk 1.6 x 0.8 m, top surface at 0.74 m, drawer pedestal on the right; the user sits at +z.

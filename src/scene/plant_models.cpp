@@ -14,9 +14,13 @@ Vec3f spherical(float az, float el) {
     return {std::cos(el) * std::cos(az), std::sin(el), std::cos(el) * std::sin(az)};
 }
 
-Vec3f jitter(SceneRng& rng, float a) { return {rng.range(-a, a), rng.range(-a, a), rng.range(-a, a)}; }
+Vec3f jitter(SceneRng& rng, float a) {
+    return {rng.range(-a, a), rng.range(-a, a), rng.range(-a, a)};
+}
 
-Vec3f lerp(const Vec3f& a, const Vec3f& b, float t) { return a + (b - a) * t; }
+Vec3f lerp(const Vec3f& a, const Vec3f& b, float t) {
+    return a + (b - a) * t;
+}
 
 /// A random walk of n steps from `start`, bending by `droop` towards -y per step.
 std::vector<Vec3f> grow(const Vec3f& start, Vec3f dir, float len, int n, float droop, float wiggle,
@@ -60,10 +64,18 @@ void add_leaf(SceneBuilder& b, const PlantMaterials& m, const Mesh& proto, const
 }  // namespace
 
 void flower_pot(SceneBuilder& b, const Xform& at, float r, float h, uint32_t pot, uint32_t soil) {
-    const std::vector<Vec2f> p{{0.f, 0.f},           {0.72f * r, 0.f},     {0.72f * r, 0.f},
-                               {0.95f * r, 0.86f * h}, {0.95f * r, 0.86f * h}, {1.05f * r, 0.88f * h},
-                               {1.05f * r, h},         {1.05f * r, h},         {0.96f * r, h},
-                               {0.96f * r, h},         {0.92f * r, 0.88f * h}, {0.92f * r, 0.88f * h},
+    const std::vector<Vec2f> p{{0.f, 0.f},
+                               {0.72f * r, 0.f},
+                               {0.72f * r, 0.f},
+                               {0.95f * r, 0.86f * h},
+                               {0.95f * r, 0.86f * h},
+                               {1.05f * r, 0.88f * h},
+                               {1.05f * r, h},
+                               {1.05f * r, h},
+                               {0.96f * r, h},
+                               {0.96f * r, h},
+                               {0.92f * r, 0.88f * h},
+                               {0.92f * r, 0.88f * h},
                                {0.f, 0.88f * h}};
     b.add(pot, lathe(p, 40), at);
     // Soil: a slightly domed disc just below the inner rim.
@@ -89,7 +101,8 @@ void fig_crown(SceneBuilder& b, const Xform& at, const Vec3f& base, float height
         const Vec3f start = lerp(trunk[seg], trunk[seg + 1], ft - float(seg));
         const float az = 2.39996f * float(i) + rng.range(-0.3f, 0.3f);
         const float len = height * (0.28f + 0.24f * (1.f - t)) * rng.range(0.8f, 1.2f);
-        std::vector<Vec3f> branch = grow(start, spherical(az, rng.range(0.2f, 0.9f)), len, 6, 0.1f, 0.15f, rng);
+        std::vector<Vec3f> branch =
+            grow(start, spherical(az, rng.range(0.2f, 0.9f)), len, 6, 0.1f, 0.15f, rng);
         for (Vec3f& p : branch) p = clamp_reach(p, branch_reach);
         b.add(m.stem, tapered_tube(branch, 0.006f, 0.0025f, 5), at);
         // Twigs off each branch segment, each carrying alternate leaves.
@@ -97,7 +110,8 @@ void fig_crown(SceneBuilder& b, const Xform& at, const Vec3f& base, float height
             const Vec3f seg_dir = normalize(branch[k] - branch[k - 1]);
             for (int j = 0; j < 3; ++j) {
                 const Vec3f p = lerp(branch[k - 1], branch[k], (float(j) + 0.5f) / 3.f);
-                const Vec3f tdir = normalize(seg_dir + spherical(rng.range(0.f, 2.f * pi), 0.3f) * 0.9f);
+                const Vec3f tdir =
+                    normalize(seg_dir + spherical(rng.range(0.f, 2.f * pi), 0.3f) * 0.9f);
                 const float tl = rng.range(0.05f, 0.11f);
                 const Vec3f twig[2] = {p, p + tdir * tl - up * (0.1f * tl)};
                 const float tr[2] = {0.0018f, 0.0009f};
@@ -107,7 +121,8 @@ void fig_crown(SceneBuilder& b, const Xform& at, const Vec3f& base, float height
                 for (int l = 0; l < leaves; ++l) {
                     const float s = (float(l) + 1.f) / float(leaves);
                     const float sign = l % 2 ? 1.f : -1.f;
-                    const Vec3f dir = tdir * 0.6f + side * (0.8f * sign) - up * 0.25f + jitter(rng, 0.3f);
+                    const Vec3f dir =
+                        tdir * 0.6f + side * (0.8f * sign) - up * 0.25f + jitter(rng, 0.3f);
                     add_leaf(b, m, l % 3 ? leaf_a : leaf_b, at, lerp(twig[0], twig[1], s), dir,
                              up + jitter(rng, 0.5f), rng.range(0.045f, 0.075f), rng);
                 }
@@ -159,18 +174,19 @@ void pilea(SceneBuilder& b, const Xform& at, float reach, const PlantMaterials& 
     for (int s = 0; s < stalks; ++s) {
         const float az = 2.39996f * float(s);
         const float el = rng.range(0.6f, 1.4f);
-        std::vector<Vec3f> stalk =
-            grow({0.f, 0.9f * pot_h, 0.f}, spherical(az, el), rng.range(0.06f, 0.18f), 3, 0.1f, 0.1f, rng);
+        std::vector<Vec3f> stalk = grow({0.f, 0.9f * pot_h, 0.f}, spherical(az, el),
+                                        rng.range(0.06f, 0.18f), 3, 0.1f, 0.1f, rng);
         // Leaves are up to 5 cm across: keep the stalk ends that much inside the reach.
         for (Vec3f& p : stalk) p = clamp_reach(p, std::max(0.02f, reach - 0.05f));
         b.add(m.stem, tapered_tube(stalk, 0.0018f, 0.0012f, 3), at);
         const Vec3f outward = spherical(az, 0.1f);
-        add_leaf(b, m, round_leaf, at, stalk.back(), outward + jitter(rng, 0.3f), up + outward * 0.5f,
-                 rng.range(0.035f, 0.05f), rng);
+        add_leaf(b, m, round_leaf, at, stalk.back(), outward + jitter(rng, 0.3f),
+                 up + outward * 0.5f, rng.range(0.035f, 0.05f), rng);
     }
 }
 
-void topiary(SceneBuilder& b, const Xform& at, float height, const PlantMaterials& m, SceneRng& rng) {
+void topiary(SceneBuilder& b, const Xform& at, float height, const PlantMaterials& m,
+             SceneRng& rng) {
     const float pot_r = 0.07f, pot_h = 0.1f, ball_r = 0.32f * height;
     flower_pot(b, at, pot_r, pot_h, rng.uniform() < 0.5f ? m.pot : m.pot_alt, m.soil);
     const Vec3f centre{0.f, height - ball_r, 0.f};

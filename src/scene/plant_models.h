@@ -34,7 +34,8 @@ void dracaena(SceneBuilder& b, const Xform& at, float height, float reach, const
 void pilea(SceneBuilder& b, const Xform& at, float reach, const PlantMaterials& m, SceneRng& rng);
 
 /// A small topiary: a clipped ball of tiny leaves on a short stem in a small pot, `height` tall.
-void topiary(SceneBuilder& b, const Xform& at, float height, const PlantMaterials& m, SceneRng& rng);
+void topiary(SceneBuilder& b, const Xform& at, float height, const PlantMaterials& m,
+             SceneRng& rng);
 
 /// Flower pot of rim radius r and height h with soil 12% below the rim.
 void flower_pot(SceneBuilder& b, const Xform& at, float r, float h, uint32_t pot, uint32_t soil);

@@ -108,8 +108,9 @@ PlyCheck check_ply_structure(const std::string& path) {
         } else {
             // A line that is no PLY keyword (exporters write "Created by ..."): read as a
             // comment (PlyCheck::repaired), with a warning.
-            out.warnings.push_back(path + ":" + std::to_string(line) + ": unknown PLY header line '" +
-                                   one_line(std::string(tk[0])) + "' read as a comment");
+            out.warnings.push_back(path + ":" + std::to_string(line) +
+                                   ": unknown PLY header line '" + one_line(std::string(tk[0])) +
+                                   "' read as a comment");
             unknown_lines.push_back(line_start);
         }
     }

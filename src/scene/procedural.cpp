@@ -193,7 +193,8 @@ Mesh rounded_box(const Vec3f& half, float radius, int arc, Shading shading, floa
         std::vector<float>& c = coords[a];
         for (int k = arc - 1; k >= 0; --k) c.push_back(-pos[size_t(k)]);
         if (inner[a] > 0.f) {
-            const std::vector<float> mid = axis_coords(-inner[a], inner[a], cells(2.f * inner[a], cell));
+            const std::vector<float> mid =
+                axis_coords(-inner[a], inner[a], cells(2.f * inner[a], cell));
             c.insert(c.end(), mid.begin(), mid.end());
         } else {
             c.push_back(-inner[a]);
@@ -248,7 +249,8 @@ std::vector<TriangleIndices> triangulate(std::span<const Vec2f> poly) {
             if (cross2(poly[ia], poly[ib], poly[ic]) <= 0.0) continue;  // reflex corner
             bool empty = true;
             for (uint32_t j : idx)
-                if (j != ia && j != ib && j != ic && inside_triangle(poly[j], poly[ia], poly[ib], poly[ic]))
+                if (j != ia && j != ib && j != ic &&
+                    inside_triangle(poly[j], poly[ia], poly[ib], poly[ic]))
                     empty = false;
             if (!empty) continue;
             out.push_back({ia, ib, ic});

@@ -25,7 +25,9 @@ namespace rtt::proc {
 inline constexpr float pi = 3.14159265358979323846f;
 
 /// Degrees to radians.
-constexpr float radians(float deg) { return deg * (pi / 180.f); }
+constexpr float radians(float deg) {
+    return deg * (pi / 180.f);
+}
 
 struct Vec2f {
     float x = 0.f, y = 0.f;

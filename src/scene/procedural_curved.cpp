@@ -114,7 +114,8 @@ Mesh torus(float major, float minor, int segments, int sides) {
             const float ring = major + minor * theta.c[size_t(j)];
             const Vec3f n{theta.c[size_t(j)] * phi.c[size_t(i)], theta.s[size_t(j)],
                           theta.c[size_t(j)] * phi.s[size_t(i)]};
-            m.add_vertex({ring * phi.c[size_t(i)], minor * theta.s[size_t(j)], ring * phi.s[size_t(i)]}, n);
+            m.add_vertex(
+                {ring * phi.c[size_t(i)], minor * theta.s[size_t(j)], ring * phi.s[size_t(i)]}, n);
         }
     const auto ns = uint32_t(sides), nseg = uint32_t(segments);
     for (uint32_t i = 0; i < nseg; ++i)

@@ -28,7 +28,8 @@ Mesh turned_leg(float h, float r, int segments) {
     std::vector<Vec2f> p;
     p.push_back({0.f, 0.f});
     p.push_back({radius(0.f), 0.f});
-    for (int k = 0; k <= n; ++k) p.push_back({radius(float(k) / float(n)), h * float(k) / float(n)});
+    for (int k = 0; k <= n; ++k)
+        p.push_back({radius(float(k) / float(n)), h * float(k) / float(n)});
     p.push_back({radius(1.f), h});
     p.push_back({0.f, h});
     return lathe(p, segments);
@@ -38,7 +39,8 @@ void dining_chair(SceneBuilder& b, const Xform& at, uint32_t wood, uint32_t seat
     const float sh = 0.45f, lx = 0.19f, lz = 0.19f, leg_h = sh - 0.03f;
     const Mesh leg = turned_leg(leg_h, 0.02f, 20);
     for (float sx : {-1.f, 1.f})
-        for (float sz : {-1.f, 1.f}) b.add(wood, leg, at * Xform::translate({sx * lx, 0.f, sz * lz}));
+        for (float sz : {-1.f, 1.f})
+            b.add(wood, leg, at * Xform::translate({sx * lx, 0.f, sz * lz}));
     // Back posts rake backwards as they rise.
     const float top = 0.98f;
     auto post_z = [&](float y) {
@@ -55,11 +57,17 @@ void dining_chair(SceneBuilder& b, const Xform& at, uint32_t wood, uint32_t seat
         }
         b.add(wood, tube(path, radii, 14, true), at);
     }
-    b.add(seat, rounded_box({0.235f, 0.022f, 0.235f}, 0.015f, 3), at * Xform::translate({0.f, sh - 0.008f, 0.f}));
+    b.add(seat, rounded_box({0.235f, 0.022f, 0.235f}, 0.015f, 3),
+          at * Xform::translate({0.f, sh - 0.008f, 0.f}));
     // Apron under the seat and stretchers between the legs.
-    b.add(wood, rounded_block({-lx, leg_h - 0.07f, lz - 0.012f}, {lx, leg_h, lz + 0.008f}, 0.005f, 1), at);
+    b.add(wood,
+          rounded_block({-lx, leg_h - 0.07f, lz - 0.012f}, {lx, leg_h, lz + 0.008f}, 0.005f, 1),
+          at);
     for (float sx : {-1.f, 1.f})
-        b.add(wood, rounded_block({sx * lx - 0.01f, leg_h - 0.07f, -lz}, {sx * lx + 0.01f, leg_h, lz}, 0.005f, 1), at);
+        b.add(wood,
+              rounded_block({sx * lx - 0.01f, leg_h - 0.07f, -lz}, {sx * lx + 0.01f, leg_h, lz},
+                            0.005f, 1),
+              at);
     for (float sx : {-1.f, 1.f}) {
         const Vec3f s[2] = {{sx * lx, 0.15f, -lz}, {sx * lx, 0.15f, lz}};
         const float sr[2] = {0.009f, 0.009f};
@@ -85,7 +93,8 @@ void dining_chair(SceneBuilder& b, const Xform& at, uint32_t wood, uint32_t seat
     rail(0.62f, 0.f, 0.013f);
     for (float x : {-0.105f, -0.035f, 0.035f, 0.105f}) {
         const float bow = 0.03f * (1.f - (x / lx) * (x / lx));
-        const Vec3f s[3] = {{x, 0.62f, post_z(0.62f) - bow}, {x, 0.77f, post_z(0.77f) - bow},
+        const Vec3f s[3] = {{x, 0.62f, post_z(0.62f) - bow},
+                            {x, 0.77f, post_z(0.77f) - bow},
                             {x, 0.92f, post_z(0.92f) - bow}};
         const float sr[3] = {0.008f, 0.012f, 0.008f};
         b.add(wood, tube(s, sr, 12, false), at);
@@ -112,14 +121,17 @@ void round_table(SceneBuilder& b, const Xform& at, uint32_t wood) {
         radii.push_back(0.032f - 0.012f * s);
     }
     const Mesh foot_mesh = tube(foot, radii, 16, true);
-    for (int i = 0; i < 4; ++i) b.add(wood, foot_mesh, at * Xform::rotate_y(pi * (0.25f + 0.5f * float(i))));
+    for (int i = 0; i < 4; ++i)
+        b.add(wood, foot_mesh, at * Xform::rotate_y(pi * (0.25f + 0.5f * float(i))));
 }
 
 void sofa(SceneBuilder& b, const Xform& at, uint32_t fabric, uint32_t cushion, uint32_t pillow,
           uint32_t wood) {
     const float hw = 1.05f;
-    b.add(fabric, rounded_block({-hw + 0.15f, 0.1f, -0.42f}, {hw - 0.15f, 0.4f, 0.42f}, 0.03f, 3), at);
-    b.add(fabric, rounded_block({-hw + 0.15f, 0.35f, -0.45f}, {hw - 0.15f, 0.88f, -0.28f}, 0.05f, 4), at);
+    b.add(fabric, rounded_block({-hw + 0.15f, 0.1f, -0.42f}, {hw - 0.15f, 0.4f, 0.42f}, 0.03f, 3),
+          at);
+    b.add(fabric,
+          rounded_block({-hw + 0.15f, 0.35f, -0.45f}, {hw - 0.15f, 0.88f, -0.28f}, 0.05f, 4), at);
     for (float sx : {-1.f, 1.f}) {
         const float x0 = sx < 0.f ? -hw : hw - 0.2f;
         b.add(fabric, rounded_block({x0, 0.1f, -0.45f}, {x0 + 0.2f, 0.6f, 0.45f}, 0.07f, 4), at);
@@ -131,13 +143,18 @@ void sofa(SceneBuilder& b, const Xform& at, uint32_t fabric, uint32_t cushion, u
     const float cw = (2.f * hw - 0.4f) / 3.f;
     for (int i = 0; i < 3; ++i) {
         const float x0 = -hw + 0.2f + cw * float(i);
-        b.add(cushion, rounded_block({x0 + 0.005f, 0.4f, -0.27f}, {x0 + cw - 0.005f, 0.55f, 0.44f}, 0.05f, 4), at);
-        const Xform back = at * Xform::translate({x0 + 0.5f * cw, 0.72f, -0.2f}) * Xform::rotate_x(-0.15f);
+        b.add(
+            cushion,
+            rounded_block({x0 + 0.005f, 0.4f, -0.27f}, {x0 + cw - 0.005f, 0.55f, 0.44f}, 0.05f, 4),
+            at);
+        const Xform back =
+            at * Xform::translate({x0 + 0.5f * cw, 0.72f, -0.2f}) * Xform::rotate_x(-0.15f);
         b.add(cushion, rounded_box({0.5f * cw - 0.01f, 0.19f, 0.08f}, 0.06f, 4), back);
     }
     for (float sx : {-1.f, 1.f}) {
         const Xform p = at * Xform::translate({sx * (hw - 0.38f), 0.72f, -0.06f}) *
-                        Xform::rotate_y(sx * 0.3f) * Xform::rotate_x(-0.35f) * Xform::rotate_z(sx * 0.2f);
+                        Xform::rotate_y(sx * 0.3f) * Xform::rotate_x(-0.35f) *
+                        Xform::rotate_z(sx * 0.2f);
         b.add(pillow, rounded_box({0.2f, 0.2f, 0.06f}, 0.055f, 4), p);
     }
 }
@@ -152,9 +169,10 @@ void floor_lamp(SceneBuilder& b, const Xform& at, uint32_t metal, uint32_t shade
     b.add(shade, lathe(p, 64), at);
 }
 
-void fruit_bowl(SceneBuilder& b, const Xform& at, uint32_t bowl, uint32_t fruit_a, uint32_t fruit_b) {
-    const std::vector<Vec2f> p{{0.f, 0.f},     {0.05f, 0.f},   {0.05f, 0.f},    {0.1f, 0.025f},
-                               {0.135f, 0.06f}, {0.15f, 0.08f}, {0.15f, 0.08f},  {0.142f, 0.08f},
+void fruit_bowl(SceneBuilder& b, const Xform& at, uint32_t bowl, uint32_t fruit_a,
+                uint32_t fruit_b) {
+    const std::vector<Vec2f> p{{0.f, 0.f},      {0.05f, 0.f},     {0.05f, 0.f},     {0.1f, 0.025f},
+                               {0.135f, 0.06f}, {0.15f, 0.08f},   {0.15f, 0.08f},   {0.142f, 0.08f},
                                {0.142f, 0.08f}, {0.128f, 0.062f}, {0.095f, 0.032f}, {0.f, 0.015f}};
     b.add(bowl, lathe(p, 48), at);
     const Mesh fruit = sphere(0.036f, 32, 16);
@@ -169,13 +187,15 @@ void fruit_bowl(SceneBuilder& b, const Xform& at, uint32_t bowl, uint32_t fruit_
 
 void sideboard(SceneBuilder& b, const Xform& at, uint32_t wood, uint32_t metal) {
     const float w = 1.6f, d = 0.45f, h = 0.8f;
-    b.add(wood, rounded_block({0.02f, 0.12f, 0.f}, {w - 0.02f, h - 0.03f, d - 0.02f}, 0.01f, 2), at);
+    b.add(wood, rounded_block({0.02f, 0.12f, 0.f}, {w - 0.02f, h - 0.03f, d - 0.02f}, 0.01f, 2),
+          at);
     b.add(wood, rounded_block({0.f, h - 0.03f, 0.f}, {w, h, d}, 0.01f, 3), at);
     for (int i = 0; i < 4; ++i) {
         const float x0 = 0.03f + float(i) * (w - 0.06f) / 4.f, x1 = x0 + (w - 0.06f) / 4.f - 0.006f;
         b.add(wood, rounded_block({x0, 0.14f, d - 0.02f}, {x1, h - 0.05f, d}, 0.006f, 2), at);
         const float hx = i % 2 ? x0 + 0.05f : x1 - 0.05f;
-        const Vec3f handle[4] = {{hx, 0.38f, d}, {hx, 0.40f, d + 0.025f}, {hx, 0.54f, d + 0.025f}, {hx, 0.56f, d}};
+        const Vec3f handle[4] = {
+            {hx, 0.38f, d}, {hx, 0.40f, d + 0.025f}, {hx, 0.54f, d + 0.025f}, {hx, 0.56f, d}};
         const float hr[4] = {0.006f, 0.006f, 0.006f, 0.006f};
         b.add(metal, tube(handle, hr, 10, true), at);
     }
@@ -185,8 +205,10 @@ void sideboard(SceneBuilder& b, const Xform& at, uint32_t wood, uint32_t metal) 
 }
 
 void ceiling_spot(SceneBuilder& b, const Vec3f& at, float ceiling, uint32_t metal) {
-    b.add(metal, cylinder(0.075f, 0.075f, 0.01f, 32), Xform::translate({at.x, ceiling - 0.01f, at.z}));
-    b.add(metal, cylinder(0.06f, 0.06f, 0.12f, 32, true, false), Xform::translate({at.x, ceiling - 0.13f, at.z}));
+    b.add(metal, cylinder(0.075f, 0.075f, 0.01f, 32),
+          Xform::translate({at.x, ceiling - 0.01f, at.z}));
+    b.add(metal, cylinder(0.06f, 0.06f, 0.12f, 32, true, false),
+          Xform::translate({at.x, ceiling - 0.13f, at.z}));
     b.add(metal, torus(0.06f, 0.007f, 32, 8), Xform::translate({at.x, ceiling - 0.13f, at.z}));
 }
 

@@ -23,7 +23,8 @@ void sofa(SceneBuilder& b, const Xform& at, uint32_t fabric, uint32_t cushion, u
 void floor_lamp(SceneBuilder& b, const Xform& at, uint32_t metal, uint32_t shade);
 
 /// Bowl of fruit (spheres) standing at the origin.
-void fruit_bowl(SceneBuilder& b, const Xform& at, uint32_t bowl, uint32_t fruit_a, uint32_t fruit_b);
+void fruit_bowl(SceneBuilder& b, const Xform& at, uint32_t bowl, uint32_t fruit_a,
+                uint32_t fruit_b);
 
 /// Low sideboard 1.6 m wide (x in [0, 1.6]), 0.45 m deep (back at z = 0), 0.8 m tall.
 void sideboard(SceneBuilder& b, const Xform& at, uint32_t wood, uint32_t metal);

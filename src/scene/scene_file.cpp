@@ -1,11 +1,11 @@
 // Entry points of scene_io.h: pick the importer from the file name, then validate the result.
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <vector>
-#include <algorithm>
 
 #include "rtt/error.h"
 #include "rtt/scene_io.h"
@@ -71,17 +71,17 @@ void drop_non_finite_triangles(Scene& scene, const std::string& path) {
         ++kept;
     }
     if (kept == 0)
-        throw Error(path, 0,
-                    "no triangles (all " + std::to_string(before) +
-                        " lie on NaN or infinite vertices)");
+        throw Error(
+            path, 0,
+            "no triangles (all " + std::to_string(before) + " lie on NaN or infinite vertices)");
     scene.triangles.resize(kept);
     scene.triangle_material.resize(std::min(scene.triangle_material.size(), kept));
     const Vec3f used = scene.vertices[scene.triangles[0][0]];
     for (size_t v = 0; v < scene.vertices.size(); ++v)
         if (bad[v]) scene.vertices[v] = used;
     scene.warn(path + ": " + std::to_string(bad_count) +
-               " vertices with a NaN or infinite coordinate; the " +
-               std::to_string(before - kept) + " triangles on them dropped");
+               " vertices with a NaN or infinite coordinate; the " + std::to_string(before - kept) +
+               " triangles on them dropped");
 }
 
 }  // namespace
@@ -105,7 +105,8 @@ Scene load_mesh_file(const std::string& path) {
     }
     if (degenerate)
         scene.warn(path + ": " + std::to_string(degenerate) + " degenerate (zero-area) triangle" +
-                   (degenerate == 1 ? "" : "s") + " kept, the first is triangle " + std::to_string(first));
+                   (degenerate == 1 ? "" : "s") + " kept, the first is triangle " +
+                   std::to_string(first));
     return scene;
 }
 

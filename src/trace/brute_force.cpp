@@ -38,13 +38,13 @@ public:
     void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
                    std::span<SampleAnswer> answers) const override {
         intersect_one_by_one(tile, hits, stats, answers,
-                              [&](const Ray& ray) { return trace_brute_force(triangles_, ray); });
+                             [&](const Ray& ray) { return trace_brute_force(triangles_, ray); });
     }
 
     void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
                   std::span<SampleAnswer> answers) const override {
         occluded_one_by_one(tile, visible, stats, answers,
-                             [&](const Ray& ray) { return occluded_brute_force(triangles_, ray); });
+                            [&](const Ray& ray) { return occluded_brute_force(triangles_, ray); });
     }
 
 private:

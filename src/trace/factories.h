@@ -27,9 +27,12 @@ enum class EmbreeMode {
 /// The kind's name: the mode's, with "-medium" for Embree's MEDIUM build quality (else HIGH).
 inline const char* embree_kind_name(EmbreeMode mode, bool medium) {
     switch (mode) {
-        case EmbreeMode::packets: return medium ? "embree-medium" : "embree";
-        case EmbreeMode::stream: return medium ? "embree-stream-medium" : "embree-stream";
-        case EmbreeMode::single: break;
+        case EmbreeMode::packets:
+            return medium ? "embree-medium" : "embree";
+        case EmbreeMode::stream:
+            return medium ? "embree-stream-medium" : "embree-stream";
+        case EmbreeMode::single:
+            break;
     }
     return medium ? "embree1-medium" : "embree1";
 }

@@ -37,14 +37,15 @@ template <typename Trace>
 void for_each_chunk(std::span<const Ray> rays, TraceStats* stats, const Trace& trace) {
     tbb::combinable<TraceStats> partial;
     const size_t chunks = (rays.size() + chunk_rays - 1) / chunk_rays;
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t c = r.begin(); c != r.end(); ++c) {
-            const size_t first = c * chunk_rays;
-            const size_t n = std::min(chunk_rays, rays.size() - first);
-            const RayTile tile{int(n), 1, rays.subspan(first, n), false};
-            trace(tile, first, stats ? &partial.local() : nullptr);
-        }
-    });
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                          for (size_t c = r.begin(); c != r.end(); ++c) {
+                              const size_t first = c * chunk_rays;
+                              const size_t n = std::min(chunk_rays, rays.size() - first);
+                              const RayTile tile{int(n), 1, rays.subspan(first, n), false};
+                              trace(tile, first, stats ? &partial.local() : nullptr);
+                          }
+                      });
     if (stats) partial.combine_each([&](const TraceStats& s) { *stats += s; });
 }
 

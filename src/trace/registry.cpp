@@ -35,7 +35,10 @@ const std::vector<TracerEntry>& registry() {
         {"brute", make_brute_force_tracer},
         {"packet", make_packet_tracer<4>},
         {"rtt", [](const Scene& s, const KdTree& t) { return make_rtt_tracer(s, t); }},
-        {"rtt-paper", [](const Scene& s, const KdTree& t) { return make_rtt_tracer(s, t, {.rules = RttRules::paper}); }},
+        {"rtt-paper",
+         [](const Scene& s, const KdTree& t) {
+             return make_rtt_tracer(s, t, {.rules = RttRules::paper});
+         }},
         {"frustum", make_frustum_tracer},
 #ifdef RTT_HAVE_SIMD8
         {"packet8", make_packet_tracer<8>},
@@ -67,7 +70,8 @@ void check_tracer_kind(std::string_view kind) {
     for (const TracerEntry& e : registry())
         if (kind == e.kind) return;
     std::string known;
-    for (const TracerEntry& e : registry()) known += (known.empty() ? "" : ", ") + std::string(e.kind);
+    for (const TracerEntry& e : registry())
+        known += (known.empty() ? "" : ", ") + std::string(e.kind);
     throw Error("unknown tracer '" + std::string(kind) + "' (this build has: " + known + ")");
 }
 

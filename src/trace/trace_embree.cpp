@@ -58,15 +58,16 @@ using SceneHandle = std::unique_ptr<RTCSceneTy, SceneRelease>;
 /// Device-wide state reached from Embree's callbacks.
 struct DeviceLog {
     std::mutex mutex;
-    std::string first_error;            ///< First message Embree reported, if any.
-    std::atomic<int64_t> bytes{0};      ///< Net bytes the device holds (memory monitor).
+    std::string first_error;        ///< First message Embree reported, if any.
+    std::atomic<int64_t> bytes{0};  ///< Net bytes the device holds (memory monitor).
 };
 
 void on_error(void* user, RTCError code, const char* message) {
     auto* log = static_cast<DeviceLog*>(user);
     std::lock_guard lock(log->mutex);
     if (log->first_error.empty())
-        log->first_error = "embree error " + std::to_string(int(code)) + ": " + (message ? message : "");
+        log->first_error =
+            "embree error " + std::to_string(int(code)) + ": " + (message ? message : "");
 }
 
 bool on_memory(void* user, ssize_t bytes, bool /*post*/) {
@@ -117,7 +118,9 @@ void set_ray(RTCRay& r, const Ray& ray) {
 }
 
 /// A ray Embree answers: a non-empty interval (tmax < tmin marks an inactive lane).
-bool active(const Ray& ray) { return ray.tmin <= ray.tmax; }
+bool active(const Ray& ray) {
+    return ray.tmin <= ray.tmax;
+}
 
 /// The placeholder for a lane outside the tile or inactive (valid = 0, never traced, but every
 /// field is finite so no lane of Embree's SIMD code sees garbage).
@@ -129,8 +132,9 @@ public:
         : log_(std::make_unique<DeviceLog>()), mode_(mode), medium_(medium) {
         const RTCBuildQuality quality = medium ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH;
         device_.reset(rtcNewDevice(nullptr));
-        if (!device_) throw Error("embree: cannot create a device (error " +
-                                  std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+        if (!device_)
+            throw Error("embree: cannot create a device (error " +
+                        std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
         rtcSetDeviceErrorFunction(device_.get(), on_error, log_.get());
         rtcSetDeviceMemoryMonitorFunction(device_.get(), on_memory, log_.get());
 
@@ -141,15 +145,17 @@ public:
             RTCGeometry geom = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
             rtcSetGeometryBuildQuality(geom, quality);
             // rtcSetNewGeometryBuffer pads the vertex buffer as Embree's 16-byte SIMD loads need.
-            void* verts = rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                  sizeof(Vec3f), scene.vertices.size());
+            void* verts =
+                rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                        sizeof(Vec3f), scene.vertices.size());
             void* ids = rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                 sizeof(TriangleIndices), scene.triangles.size());
             if (verts && ids) {
                 static_assert(sizeof(Vec3f) == 3 * sizeof(float));
                 static_assert(sizeof(TriangleIndices) == 3 * sizeof(uint32_t));
                 std::memcpy(verts, scene.vertices.data(), scene.vertices.size() * sizeof(Vec3f));
-                std::memcpy(ids, scene.triangles.data(), scene.triangles.size() * sizeof(TriangleIndices));
+                std::memcpy(ids, scene.triangles.data(),
+                            scene.triangles.size() * sizeof(TriangleIndices));
                 rtcCommitGeometry(geom);
                 rtcAttachGeometry(scene_.get(), geom);  // geomID 0
             }
@@ -159,20 +165,29 @@ public:
 
         const auto start = std::chrono::steady_clock::now();
         rtcCommitScene(scene_.get());
-        build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        build_seconds_ =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         throw_if_failed("building the BVH");
     }
 
     std::string_view name() const override { return embree_kind_name(mode_, medium_); }
     double build_seconds() const override { return build_seconds_; }
-    size_t memory_bytes() const override { return size_t(std::max<int64_t>(log_->bytes.load(), 0)); }
+    size_t memory_bytes() const override {
+        return size_t(std::max<int64_t>(log_->bytes.load(), 0));
+    }
 
     void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
                    std::span<SampleAnswer> answers) const override {
         switch (mode_) {
-            case EmbreeMode::packets: intersect16(tile, hits); break;
-            case EmbreeMode::stream: intersect_stream(tile, hits); break;
-            case EmbreeMode::single: intersect1(tile, hits); break;
+            case EmbreeMode::packets:
+                intersect16(tile, hits);
+                break;
+            case EmbreeMode::stream:
+                intersect_stream(tile, hits);
+                break;
+            case EmbreeMode::single:
+                intersect1(tile, hits);
+                break;
         }
         record_traced_tile(tile.rays.size(), stats, answers);
     }
@@ -180,9 +195,15 @@ public:
     void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
                   std::span<SampleAnswer> answers) const override {
         switch (mode_) {
-            case EmbreeMode::packets: occluded16(tile, visible); break;
-            case EmbreeMode::stream: occluded_stream(tile, visible); break;
-            case EmbreeMode::single: occluded1(tile, visible); break;
+            case EmbreeMode::packets:
+                occluded16(tile, visible);
+                break;
+            case EmbreeMode::stream:
+                occluded_stream(tile, visible);
+                break;
+            case EmbreeMode::single:
+                occluded1(tile, visible);
+                break;
         }
         uint64_t n = 0;
         for (size_t i = 0; i < tile.points.size(); ++i) n += tile.active[i] != 0;
@@ -195,7 +216,8 @@ private:
         std::lock_guard lock(log_->mutex);
         if (code != RTC_ERROR_NONE || !log_->first_error.empty())
             throw Error(std::string("embree: failed ") + what + ": " +
-                        (log_->first_error.empty() ? "error " + std::to_string(int(code)) : log_->first_error));
+                        (log_->first_error.empty() ? "error " + std::to_string(int(code))
+                                                   : log_->first_error));
     }
 
     static RTCIntersectContext coherent_context() {

@@ -247,8 +247,7 @@ void traverse_group(const KdTree& tree, std::span<const TriangleVerts> triangles
         if (e.first > e.last) continue;
         // No ray needs the node past its closest hit: the frustum's far end shrinks with hits.
         float far = neg_inf;
-        for (int i = e.first; i <= e.last; ++i)
-            far = std::max(far, max_best[i]);
+        for (int i = e.first; i <= e.last; ++i) far = std::max(far, max_best[i]);
         if (far < e.tb) e.tb = far;
         if (e.ta > e.tb) continue;
 

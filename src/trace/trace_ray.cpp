@@ -10,7 +10,8 @@ namespace rtt {
 Bbox3f padded_bounds(const Bbox3f& box) {
     const Vec3f d = box.diagonal();
     const float extent = std::max(std::max(d.x, d.y), d.z);
-    const Vec3f pad = Vec3f(extent * kd_box_pad) + abs(box.lo) * kd_box_pad + abs(box.hi) * kd_box_pad;
+    const Vec3f pad =
+        Vec3f(extent * kd_box_pad) + abs(box.lo) * kd_box_pad + abs(box.hi) * kd_box_pad;
     return {box.lo - pad, box.hi + pad};
 }
 
@@ -38,7 +39,8 @@ bool clip_to_box(const Bbox3f& box, const Vec3f& org, const Vec3f& inv, float t_
 float scene_t_scale(const Bbox3f& box, const Ray& ray) {
     float dist = 0.f;
     for (int a = 0; a < 3; ++a)
-        dist = std::max({dist, std::fabs(box.lo[a] - ray.org[a]), std::fabs(box.hi[a] - ray.org[a])});
+        dist =
+            std::max({dist, std::fabs(box.lo[a] - ray.org[a]), std::fabs(box.hi[a] - ray.org[a])});
     const Vec3f ad = abs(ray.dir);
     return dist / std::max({ad.x, ad.y, ad.z});
 }
@@ -124,19 +126,20 @@ Hit traverse(const KdTree& tree, std::span<const TriangleVerts> triangles, const
 
 class RayTracer final : public Tracer {
 public:
-    RayTracer(const Scene& scene, const KdTree& tree) : tree_(tree), triangles_(gather_triangles(scene)) {}
+    RayTracer(const Scene& scene, const KdTree& tree)
+        : tree_(tree), triangles_(gather_triangles(scene)) {}
     std::string_view name() const override { return "ray"; }
 
     void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
                    std::span<SampleAnswer> answers) const override {
         intersect_one_by_one(tile, hits, stats, answers,
-                              [&](const Ray& ray) { return trace_ray(tree_, triangles_, ray); });
+                             [&](const Ray& ray) { return trace_ray(tree_, triangles_, ray); });
     }
 
     void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
                   std::span<SampleAnswer> answers) const override {
         occluded_one_by_one(tile, visible, stats, answers,
-                             [&](const Ray& ray) { return occluded_ray(tree_, triangles_, ray); });
+                            [&](const Ray& ray) { return occluded_ray(tree_, triangles_, ray); });
     }
 
 private:

@@ -20,8 +20,9 @@ void add_view_command(CLI::App& app) {
                 "--screenshot view.png\nrenders 3 frames in a window and saves the last; it "
                 "equals `rtt render` with the same camera, size and K.");
     add_scene_options(*cmd, o->scene);
-    cmd->add_option("--camera", o->camera,
-                    "Starting camera px,py,pz,tx,ty,tz,ux,uy,uz,fovy (the C key prints the current one)");
+    cmd->add_option(
+        "--camera", o->camera,
+        "Starting camera px,py,pz,tx,ty,tz,ux,uy,uz,fovy (the C key prints the current one)");
     cmd->add_option("--light", o->lights, "Omni light at x,y,z (repeatable; replaces the scene's)");
     cmd->add_option("--size", o->size, "Window size WxH (frames are rendered pixel for pixel)")
         ->capture_default_str();
@@ -29,12 +30,15 @@ void add_view_command(CLI::App& app) {
         ->capture_default_str();
     std::string kinds;
     for (const std::string& k : tracer_kinds()) kinds += (kinds.empty() ? "" : ", ") + k;
-    cmd->add_option("--tracer", o->tracer,
-                    "First tracer shown (T cycles): " + kinds + " (default: " + default_tracer_kind() + ")");
-    CLI::Option* threads = cmd->add_option("--threads", o->threads, "Worker threads (default: all cores)");
+    cmd->add_option(
+        "--tracer", o->tracer,
+        "First tracer shown (T cycles): " + kinds + " (default: " + default_tracer_kind() + ")");
+    CLI::Option* threads =
+        cmd->add_option("--threads", o->threads, "Worker threads (default: all cores)");
     cmd->add_option("--max-depth", o->max_depth, "Mirror reflection depth")->capture_default_str();
     cmd->add_flag("!--no-shadows", o->shadows, "Start with shadows off (L toggles)");
-    cmd->add_option("--overlay", o->overlay, "Start with an RTT map over the image: none, primary, shadow (M cycles)")
+    cmd->add_option("--overlay", o->overlay,
+                    "Start with an RTT map over the image: none, primary, shadow (M cycles)")
         ->capture_default_str();
     cmd->add_option("--frames", o->frames, "Render this many frames, then close (0 = until closed)")
         ->capture_default_str();

@@ -10,32 +10,38 @@ static constexpr int max_view_aa = 8;
 
 KeyEffect apply_key(int key, ViewState& state) {
     switch (key) {
-    case 'T':
-        state.tracer = (state.tracer + 1) % state.tracers.size();
-        return KeyEffect::rerender;
-    case '+':
-    case '=':  // the same key without shift on most layouts
-        if (state.aa >= max_view_aa) return KeyEffect::none;
-        ++state.aa;
-        return KeyEffect::rerender;
-    case '-':
-        if (state.aa <= 1) return KeyEffect::none;
-        --state.aa;
-        return KeyEffect::rerender;
-    case 'L':
-        state.shadows = !state.shadows;
-        return KeyEffect::rerender;
-    case 'M':
-        state.overlay = state.overlay == Overlay::none          ? Overlay::primary_map
-                        : state.overlay == Overlay::primary_map ? Overlay::shadow_map
-                                                                : Overlay::none;
-        return KeyEffect::rerender;
-    case 'C': return KeyEffect::print_camera;
-    case 'R': return KeyEffect::reset_camera;
-    case 'P': return KeyEffect::screenshot;
-    case 'H': return KeyEffect::help;
-    case 27: return KeyEffect::quit;
-    default: break;
+        case 'T':
+            state.tracer = (state.tracer + 1) % state.tracers.size();
+            return KeyEffect::rerender;
+        case '+':
+        case '=':  // the same key without shift on most layouts
+            if (state.aa >= max_view_aa) return KeyEffect::none;
+            ++state.aa;
+            return KeyEffect::rerender;
+        case '-':
+            if (state.aa <= 1) return KeyEffect::none;
+            --state.aa;
+            return KeyEffect::rerender;
+        case 'L':
+            state.shadows = !state.shadows;
+            return KeyEffect::rerender;
+        case 'M':
+            state.overlay = state.overlay == Overlay::none          ? Overlay::primary_map
+                            : state.overlay == Overlay::primary_map ? Overlay::shadow_map
+                                                                    : Overlay::none;
+            return KeyEffect::rerender;
+        case 'C':
+            return KeyEffect::print_camera;
+        case 'R':
+            return KeyEffect::reset_camera;
+        case 'P':
+            return KeyEffect::screenshot;
+        case 'H':
+            return KeyEffect::help;
+        case 27:
+            return KeyEffect::quit;
+        default:
+            break;
     }
     if (key >= '1' && key <= '9' && size_t(key - '1') < state.tracers.size()) {
         state.tracer = size_t(key - '1');
@@ -64,7 +70,8 @@ RenderOptions frame_options(const ViewState& state, const Camera& camera, int wi
     opt.threads = threads;
     opt.shadows = state.shadows;
     opt.primary_map = state.overlay == Overlay::primary_map;
-    opt.shadow_map_light = state.overlay == Overlay::shadow_map && state.shadows && has_lights ? 0 : -1;
+    opt.shadow_map_light =
+        state.overlay == Overlay::shadow_map && state.shadows && has_lights ? 0 : -1;
     return opt;
 }
 

@@ -12,8 +12,8 @@
 
 #include "cli_values.h"
 #include "output_set.h"
-#include "render_job.h"
 #include "render/progress.h"
+#include "render_job.h"
 #include "rtt/error.h"
 #include "rtt/io.h"
 #include "rtt/kdtree.h"
@@ -68,19 +68,25 @@ struct Input {
     int window_height = 1;
 };
 
-Input& input_of(GLFWwindow* w) { return *static_cast<Input*>(glfwGetWindowUserPointer(w)); }
+Input& input_of(GLFWwindow* w) {
+    return *static_cast<Input*>(glfwGetWindowUserPointer(w));
+}
 
 /// GLFW's key code as apply_key's character (letters upper case), or 0.
 int key_char(int key) {
     if (key >= GLFW_KEY_A && key <= GLFW_KEY_Z) return 'A' + (key - GLFW_KEY_A);
     if (key >= GLFW_KEY_0 && key <= GLFW_KEY_9) return '0' + (key - GLFW_KEY_0);
     switch (key) {
-    case GLFW_KEY_EQUAL:
-    case GLFW_KEY_KP_ADD: return '+';
-    case GLFW_KEY_MINUS:
-    case GLFW_KEY_KP_SUBTRACT: return '-';
-    case GLFW_KEY_ESCAPE: return 27;
-    default: return 0;
+        case GLFW_KEY_EQUAL:
+        case GLFW_KEY_KP_ADD:
+            return '+';
+        case GLFW_KEY_MINUS:
+        case GLFW_KEY_KP_SUBTRACT:
+            return '-';
+        case GLFW_KEY_ESCAPE:
+            return 27;
+        default:
+            return 0;
     }
 }
 
@@ -252,8 +258,8 @@ void run_viewer(const ViewerOptions& o) {
 
     std::vector<uint8_t> shown;  // the frame on screen
     int shown_width = 0, shown_height = 0;
-    bool refined = false;        // the frame on screen has the chosen K
-    bool dirty = true;           // settings changed since it was rendered
+    bool refined = false;  // the frame on screen has the chosen K
+    bool dirty = true;     // settings changed since it was rendered
     int frames = 0;
     auto last_motion = Clock::now() - std::chrono::seconds(1);
     auto last_frame = Clock::now();
@@ -266,13 +272,22 @@ void run_viewer(const ViewerOptions& o) {
         bool save = false;
         for (KeyEffect e : std::exchange(input.effects, {})) {
             switch (e) {
-            case KeyEffect::rerender: dirty = true; break;
-            case KeyEffect::screenshot: save = true; break;
-            case KeyEffect::help: std::printf("%s\n", key_help()); break;
-            case KeyEffect::quit: glfwSetWindowShouldClose(window.get(), GLFW_TRUE); break;
-            case KeyEffect::print_camera:  // handled in the key callback, in event order
-            case KeyEffect::reset_camera:
-            case KeyEffect::none: break;
+                case KeyEffect::rerender:
+                    dirty = true;
+                    break;
+                case KeyEffect::screenshot:
+                    save = true;
+                    break;
+                case KeyEffect::help:
+                    std::printf("%s\n", key_help());
+                    break;
+                case KeyEffect::quit:
+                    glfwSetWindowShouldClose(window.get(), GLFW_TRUE);
+                    break;
+                case KeyEffect::print_camera:  // handled in the key callback, in event order
+                case KeyEffect::reset_camera:
+                case KeyEffect::none:
+                    break;
             }
         }
         if (moved) last_motion = now;
@@ -284,7 +299,8 @@ void run_viewer(const ViewerOptions& o) {
         const bool resized = fb_width != shown_width || fb_height != shown_height;
         const bool render_now = o.frames > 0 || moved || dirty || resized || (!moving && !refined);
         if (render_now && fb_width > 0 && fb_height > 0) {
-            if (lit_from_eye) scene.lights[0] = make_point_light(camera.camera().position, bounds, 1);
+            if (lit_from_eye)
+                scene.lights[0] = make_point_light(camera.camera().position, bounds, 1);
             const RenderOptions opt = frame_options(state, camera.camera(), fb_width, fb_height,
                                                     o.threads, moving, !scene.lights.empty());
             const RenderResult frame = render(scene, tracer_for(state.tracer_kind()), opt);
@@ -306,15 +322,17 @@ void run_viewer(const ViewerOptions& o) {
                 write_png(screenshot_path, shown_width, shown_height, 3, pixels);
                 if (!o.quiet) std::printf("rtt view: wrote %s\n", screenshot_path.c_str());
             } catch (const Error& e) {
-                if (last) throw;  // the headless run's one output
+                if (last) throw;                                   // the headless run's one output
                 std::fprintf(stderr, "rtt view: %s\n", e.what());  // the window stays open
             }
         }
         glfwSwapBuffers(window.get());
         if (last) break;
         // Idle with a refined frame on screen: sleep until something happens.
-        if (!moving && refined && !dirty) glfwWaitEventsTimeout(0.1);
-        else glfwPollEvents();
+        if (!moving && refined && !dirty)
+            glfwWaitEventsTimeout(0.1);
+        else
+            glfwPollEvents();
     }
 }
 
