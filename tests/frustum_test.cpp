@@ -14,6 +14,7 @@
 #include "rtt/camera.h"
 #include "rtt/kdtree.h"
 #include "rtt/tracer.h"
+#include "same_hit.h"
 #include "trace/brute_force.h"
 #include "trace/trace_frustum.h"
 #include "trace/trace_ray.h"
@@ -21,10 +22,6 @@
 
 namespace rtt {
 namespace {
-
-bool same_hit(const Hit& a, const Hit& b) {
-    return a.tri == b.tri && std::bit_cast<uint32_t>(a.t) == std::bit_cast<uint32_t>(b.t);
-}
 
 struct Fixture {
     Scene scene;

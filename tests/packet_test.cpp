@@ -14,16 +14,13 @@
 #include "rtt/camera.h"
 #include "rtt/kdtree.h"
 #include "rtt/tracer.h"
+#include "same_hit.h"
 #include "trace/brute_force.h"
 #include "trace/trace_packet.h"
 #include "trace/trace_ray.h"
 
 namespace rtt {
 namespace {
-
-bool same_hit(const Hit& a, const Hit& b) {
-    return a.tri == b.tri && std::bit_cast<uint32_t>(a.t) == std::bit_cast<uint32_t>(b.t);
-}
 
 // ---- whole tracers on scenes ----------------------------------------------------------------
 

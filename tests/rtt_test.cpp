@@ -24,6 +24,7 @@
 #include "rtt/kdtree.h"
 #include "rtt/render.h"
 #include "rtt/tracer.h"
+#include "same_hit.h"
 #include "triangle_soup.h"
 
 namespace rtt {
@@ -76,10 +77,6 @@ std::vector<Ray> tile_rays(const CameraRays& cam, int tx, int ty) {
                                cam.direction(tx * 4 + sx / k, ty * 4 + sy / k, sx % k, sy % k), 0.f,
                                pos_inf});
     return rays;
-}
-
-bool same_hit(const Hit& a, const Hit& b) {
-    return a.tri == b.tri && std::bit_cast<uint32_t>(a.t) == std::bit_cast<uint32_t>(b.t);
 }
 
 struct Tally {

@@ -15,7 +15,8 @@ std::unique_ptr<Tracer> make_ray_tracer(const Scene& scene, const KdTree& tree);
 /// targets AVX2 / AVX-512 (RTT_HAVE_SIMD8 / RTT_HAVE_SIMD16 in simd/simd.h).
 template <int K>
 std::unique_ptr<Tracer> make_packet_tracer(const Scene& scene, const KdTree& tree);
-/// Shaft tiles with one origin as one large packet, one octant at a time (trace_frustum.cpp).
+/// Shaft tiles with one origin as one large packet, one octant at a time (trace_frustum.h),
+/// other tiles and shadows as the widest packets (trace_packet.cpp).
 std::unique_ptr<Tracer> make_frustum_tracer(const Scene& scene, const KdTree& tree);
 #ifdef RTT_HAVE_EMBREE
 /// Embree 3 (trace_embree.cpp): how its tracers hand it rays. They build their own BVH.

@@ -8,11 +8,9 @@
 
 #include "geom/triangle_simd.h"
 #include "simd/simd.h"
-#include "trace/factories.h"
 #include "trace/root_clip.h"
 #include "trace/trace_packet.h"
 #include "trace/trace_ray.h"
-#include "trace/traced_tile.h"
 
 namespace rtt {
 namespace {
@@ -374,41 +372,6 @@ bool trace_frustum(const KdTree& tree, std::span<const TriangleVerts> triangles,
         }
     }
     return true;
-}
-
-namespace {
-
-/// The "frustum" kind: shaft tiles whose rays share an origin as one large packet
-/// (trace_frustum); everything else through the widest packets, as RTT's fallback.
-class FrustumTracer final : public Tracer {
-public:
-    FrustumTracer(const Scene& scene, const KdTree& tree)
-        : tree_(tree), triangles_(gather_triangles(scene)) {}
-    std::string_view name() const override { return "frustum"; }
-
-    void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
-                   std::span<SampleAnswer> answers) const override {
-        if (!tile.shaft ||
-            !trace_frustum(tree_, triangles_, tile.rays, tile.width, tile.height, hits))
-            trace_tile_packets<K>(tree_, triangles_, tile, hits);
-        record_traced_tile(tile.rays.size(), stats, answers);
-    }
-
-    void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
-                  std::span<SampleAnswer> answers) const override {
-        const uint64_t n = occluded_tile_packets<K>(tree_, triangles_, tile, visible);
-        record_traced_tile(n, stats, answers);
-    }
-
-private:
-    const KdTree& tree_;
-    std::vector<TriangleVerts> triangles_;
-};
-
-}  // namespace
-
-std::unique_ptr<Tracer> make_frustum_tracer(const Scene& scene, const KdTree& tree) {
-    return std::make_unique<FrustumTracer>(scene, tree);
 }
 
 }  // namespace rtt

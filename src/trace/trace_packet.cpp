@@ -8,6 +8,7 @@
 #include "trace/factories.h"
 #include "trace/packet_blocks.h"
 #include "trace/root_clip.h"
+#include "trace/trace_frustum.h"
 #include "trace/trace_ray.h"
 #include "trace/traced_tile.h"
 
@@ -348,19 +349,22 @@ uint64_t occluded_tile_packets(const KdTree& tree, std::span<const TriangleVerts
 namespace {
 
 /// The packet tracers behind the Tracer interface: "packet" (K = 4, the paper's baseline),
-/// "packet8", "packet16".
+/// "packet8", "packet16"; and "frustum" (K = the widest), which traces a shaft tile whose rays
+/// share an origin as one large packet (trace_frustum.h), anything else as K-wide packets.
 template <int K>
 class PacketTracer final : public Tracer {
 public:
-    PacketTracer(const Scene& scene, const KdTree& tree)
-        : tree_(tree), triangles_(gather_triangles(scene)) {}
+    PacketTracer(const Scene& scene, const KdTree& tree, bool frustum = false)
+        : tree_(tree), triangles_(gather_triangles(scene)), frustum_(frustum) {}
     std::string_view name() const override {
-        return K == 4 ? "packet" : (K == 8 ? "packet8" : "packet16");
+        return frustum_ ? "frustum" : K == 4 ? "packet" : (K == 8 ? "packet8" : "packet16");
     }
 
     void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
                    std::span<SampleAnswer> answers) const override {
-        trace_tile_packets<K>(tree_, triangles_, tile, hits);
+        if (!frustum_ || !tile.shaft ||
+            !trace_frustum(tree_, triangles_, tile.rays, tile.width, tile.height, hits))
+            trace_tile_packets<K>(tree_, triangles_, tile, hits);
         record_traced_tile(tile.rays.size(), stats, answers);
     }
 
@@ -373,6 +377,7 @@ public:
 private:
     const KdTree& tree_;
     std::vector<TriangleVerts> triangles_;
+    bool frustum_;
 };
 
 }  // namespace
@@ -380,6 +385,10 @@ private:
 template <int K>
 std::unique_ptr<Tracer> make_packet_tracer(const Scene& scene, const KdTree& tree) {
     return std::make_unique<PacketTracer<K>>(scene, tree);
+}
+
+std::unique_ptr<Tracer> make_frustum_tracer(const Scene& scene, const KdTree& tree) {
+    return std::make_unique<PacketTracer<simd_max_width>>(scene, tree, true);
 }
 
 #define RTT_INSTANTIATE_PACKET(K)                                                             \
