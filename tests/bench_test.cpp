@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "experiments/experiments.h"
 #include "experiments/machine_info.h"
@@ -351,6 +352,30 @@ TEST(BenchCli, AnswersReportsNanosecondsPerAnsweredRay) {
     }
     for (const char* n : {"1", "4"})
         EXPECT_GT(e.at("extra").at("limit_ns_per_ray").at(n).get<double>(), 0.0);
+    std::filesystem::remove_all(dir);
+}
+
+TEST(BenchCli, RaysReportsEveryKindOnRandomAndBounceRays) {
+    const std::filesystem::path dir =
+        std::filesystem::temp_directory_path() / ("rtt_bench_rays_" + std::to_string(getpid()));
+    ASSERT_EQ(run_bench_cli("rays --quick --scenes room --json r.json", dir), 0)
+        << read_file(dir / "err.txt");
+    const nlohmann::json j = nlohmann::json::parse(read_file(dir / "r.json"));
+    const nlohmann::json& e = j.at("experiments").at(0);
+    EXPECT_EQ(e.at("id"), "rays");
+    std::set<std::string> sets, kinds;
+    for (const nlohmann::json& c : e.at("extra").at("rays")) {
+        sets.insert(c.at("rays").get<std::string>());
+        kinds.insert(c.at("kind").get<std::string>());
+        EXPECT_GT(c.at("count").get<uint64_t>(), 1000u);
+        EXPECT_GT(c.at("mrays_per_second").get<double>(), 0.0);
+        // The run itself refuses an exact kind that differs from `ray`; Embree may tie-break.
+        if (c.at("kind").get<std::string>().rfind("embree", 0) != 0) {
+            EXPECT_EQ(c.at("differences_from_ray").get<uint64_t>(), 0u);
+        }
+    }
+    EXPECT_EQ(sets, (std::set<std::string>{"random", "bounce"}));
+    for (const char* k : {"ray", "packet", "rtt"}) EXPECT_TRUE(kinds.count(k)) << k;
     std::filesystem::remove_all(dir);
 }
 

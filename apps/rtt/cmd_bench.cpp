@@ -284,8 +284,12 @@ void add_bench_command(CLI::App& app) {
         {"answers",
          "ns per ray rtt answers from a list, K=1 and 4, beside the limit of an answer",
          {bench::run_answers}},
+        {"rays",
+         "Random and bounce rays, closest hit and visibility: every exact kind beside Embree's "
+         "single rays and stream, 1 thread and all cores",
+         {bench::run_rays}},
         {"all",
-         "Everything above except build and answers, in that order",
+         "Everything above except build, answers and rays, in that order",
          {bench::run_table1, bench::run_fig7, bench::run_fig8, bench::run_hq, bench::run_fig5,
           bench::run_embree}},
     };

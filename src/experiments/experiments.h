@@ -11,6 +11,8 @@
 //   build   the kd-tree and BVH build times alone (not part of `all`: `embree` has them).
 //   answers ns per ray rtt answers from a list, primary and shadow, K = 1 and 4, beside the
 //           limit of an answer (not part of `all`).
+//   rays    random and bounce rays, closest hit and visibility, every exact kind beside Embree's
+//           single rays, stream and packets, 1 thread and all cores (not part of `all`).
 // Sizes by mode: --quick keeps every experiment's shape with tiny images and one repetition
 // (a smoke test); the default full mode runs the paper's sizes except where a configuration
 // would not fit in 10-15 minutes on a 2-core machine (Figure 7 at 320x240, Embree's K = 4
@@ -92,6 +94,7 @@ ExperimentResult run_fig5(const BenchConfig& config, SceneCache& scenes);
 ExperimentResult run_embree(const BenchConfig& config, SceneCache& scenes);
 ExperimentResult run_build(const BenchConfig& config, SceneCache& scenes);
 ExperimentResult run_answers(const BenchConfig& config, SceneCache& scenes);
+ExperimentResult run_rays(const BenchConfig& config, SceneCache& scenes);
 
 /// Appends the kd-tree and Embree build table (run_build's) to `r`.
 void add_build_table(const BenchConfig& config, SceneCache& scenes, ExperimentResult& r);
