@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -74,6 +75,20 @@ TEST(Regress, BufferHeaderWhoseSampleCountWrapsIsRefused) {
     const TempFile c("ok.rtth",
                      std::string("RTTH\x01\0\0\0\x01\0\0\0\x01\0\0\0\x01\0\0\0\x07\0\0\0", 24));
     EXPECT_EQ(read_hit_buffer(c.path).hits, std::vector<uint32_t>{7u});
+}
+
+TEST(Regress, FileOnWhichAssimpAllocatesWithoutEndIsAnError) {
+    // Found by fuzz_mesh (CI, 2026-12-04): a 3 KB COLLADA file with a polygon index out of range
+    // made assimp 5.2 allocate for minutes, gigabytes, until std::bad_alloc. Its child process
+    // may now grow by 1 GiB (scene/assimp_sandbox.cpp); the sanitizer build has no such cap, so
+    // the test also caps the child's CPU time.
+    setenv("RTT_IMPORT_CPU_SECONDS", "20", 1);
+    const std::string path = std::string(RTT_TEST_DATA_DIR) + "/robust/assimp_collada_runaway.dae";
+    const auto start = std::chrono::steady_clock::now();
+    EXPECT_THROW(load_mesh_file(path), Error);
+    unsetenv("RTT_IMPORT_CPU_SECONDS");
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+              60.0);
 }
 
 TEST(Regress, FileThatCrashesAssimpIsAnError) {

@@ -1,19 +1,24 @@
 #include "scene/assimp_sandbox.h"
 
 #include <fcntl.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <filesystem>
+#include <fstream>
 #include <new>
 #include <optional>
 #include <type_traits>
 
 #include "rtt/error.h"
+#include "rtt/memory_budget.h"
 #include "scene/importers.h"
 
 namespace rtt::detail {
@@ -221,11 +226,58 @@ Scene read_scene(Reader& r) {
     return s;
 }
 
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool under_asan = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool under_asan = true;
+#else
+constexpr bool under_asan = false;
+#endif
+#else
+constexpr bool under_asan = false;
+#endif
+
+/// This process's data segment (VmData: heap and private writable mappings), in bytes.
+uint64_t data_bytes() {
+    std::ifstream in("/proc/self/status");
+    std::string key;
+    uint64_t kib = 0;
+    while (in >> key)
+        if (key == "VmData:" && in >> kib) return kib * 1024;
+    return 0;
+}
+
+/// Bounds the child: on some malformed files assimp allocates without end (a 3 KB COLLADA
+/// with an index out of range grew to gigabytes over minutes), so its data may grow by
+/// max(1 GiB, 256 x the file's size), within the memory budget; an allocation past that
+/// fails and the import ends in an error. Not under AddressSanitizer, whose shadow memory
+/// counts as data. RTT_IMPORT_CPU_SECONDS (scripts/fuzz.sh) also caps its CPU time.
+void limit_child(const std::string& path) {
+    if (!under_asan) {
+        std::error_code ec;
+        const uint64_t size = std::filesystem::file_size(path, ec);
+        const uint64_t grow =
+            std::min(memory_budget(), std::max(uint64_t(1) << 30, (ec ? 0 : size) * 256));
+        const uint64_t cap = data_bytes() + grow;
+        const rlimit data{rlim_t(cap), rlim_t(cap)};
+        setrlimit(RLIMIT_DATA, &data);
+    }
+    if (const char* s = std::getenv("RTT_IMPORT_CPU_SECONDS")) {
+        const long seconds = std::strtol(s, nullptr, 10);
+        if (seconds > 0) {
+            const rlimit cpu{rlim_t(seconds), rlim_t(seconds)};
+            setrlimit(RLIMIT_CPU, &cpu);
+        }
+    }
+}
+
 /// The child: import, then reply (nothing is sent before the import finished), and leave
 /// without running the parent's atexit handlers or destructors (they belong to the parent). A
 /// crash lands in the default handler: the parent sees the signal, nobody prints a report.
 [[noreturn]] void run_child(const std::string& path, int fd) {
-    for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL}) std::signal(sig, SIG_DFL);
+    for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGXCPU}) std::signal(sig, SIG_DFL);
+    limit_child(path);
     // Some of assimp's parsers print to stdout or stderr themselves (OpenGEX's: "nullptr
     // returned by creating DDLNode."), past its logger: the child's output goes nowhere, so
     // that a refusal stays one line.

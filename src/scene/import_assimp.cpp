@@ -350,6 +350,9 @@ Scene import_assimp(const std::string& path) {
     if (!ai) {
         std::string why = one_line(importer.GetErrorString());
         if (why.empty()) why = "assimp could not read the file";
+        // assimp turns exceptions into messages; this one means the sandbox's memory limit.
+        if (why == "std::bad_alloc")
+            why = "the importer (assimp) ran out of memory on this file (malformed, or too large)";
         // A repair that may be why (a misspelt PLY keyword read as a comment).
         if (!ply.warnings.empty()) why += " (after a repair: " + ply.warnings.front() + ")";
         throw Error(path, 0, why);
