@@ -110,7 +110,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
     if (!shaft) p.declined = Decline::no_shaft;
     if (outcome == ListOutcome::untraced) {
         const FallbackClock clock(st.fallback_ns);
-        trace_declined(tile, hits);
+        trace_declined(tile, p.corners, hits);
         count_decline(st, p.declined);
         return;
     }
@@ -154,7 +154,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         // are rewritten, unchanged) costs less than the inner rays 16 at a time.
         count_decline(st, p.declined);
         const FallbackClock clock(st.fallback_ns);
-        trace_declined(tile, hits);
+        trace_declined(tile, p.corners, hits);
         return;
     }
     if (need.none(n)) return;
@@ -169,8 +169,18 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         });
 }
 
-void RttTracer::trace_declined(const RayTile& tile, std::span<Hit> hits) const {
-    if (!trace_frustum(tree_, triangles_, tile.rays, tile.width, tile.height, hits))
+void RttTracer::trace_declined(const RayTile& tile, const Ray (&corners)[4],
+                               std::span<Hit> hits) const {
+    // One large packet pays on narrow regions only: at 320x240 a 16-pixel region spans about
+    // 3 degrees and the frustum ran at 0.43x of packet16 there, at 1024x768 (1 degree) at 1.1x
+    // (docs/benchmarks.md, "Frustum tracer"). Both diagonals' angles decide.
+    const auto cos_angle = [](const Vec3f& a, const Vec3f& b) {
+        return dot(a, b) / (length(a) * length(b));
+    };
+    constexpr float cos_max_diagonal = 0.99939f;  // cos(2 degrees)
+    const bool narrow = cos_angle(corners[0].dir, corners[3].dir) > cos_max_diagonal &&
+                        cos_angle(corners[1].dir, corners[2].dir) > cos_max_diagonal;
+    if (!narrow || !trace_frustum(tree_, triangles_, tile.rays, tile.width, tile.height, hits))
         trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
 }
 

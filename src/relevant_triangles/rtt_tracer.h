@@ -155,9 +155,10 @@ private:
     /// list length to `st`.
     void intersect_shaft(const RayTile& tile, std::span<Hit> hits, std::span<SampleAnswer> answers,
                          TraceStats& st) const;
-    /// A shaft tile no list answers: one large packet (trace_frustum.h) when its rays share an
-    /// origin, else the widest packets.
-    void trace_declined(const RayTile& tile, std::span<Hit> hits) const;
+    /// A shaft tile no list answers, with corner rays `corners` (0 and 3, 1 and 2 opposite):
+    /// one large packet (trace_frustum.h) when its rays share an origin and it is narrow, else
+    /// the widest packets.
+    void trace_declined(const RayTile& tile, const Ray (&corners)[4], std::span<Hit> hits) const;
     void occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visible,
                         std::span<SampleAnswer> answers, TraceStats& st) const;
     bool one_receiver_plane(const SegmentTile& tile) const;
