@@ -78,8 +78,12 @@ std::string hint_for(const CLI::App& app, const CLI::ParseError& error) {
     const CLI::App* at = innermost(app);
     const std::string help = " See '" + command_path(at) + " --help'.";
     if (dynamic_cast<const CLI::ExtrasError*>(&error)) {
+        // Unknown options fall through to the parent (main.cpp: global options like --isa).
+        std::vector<std::string> extras;
+        for (const CLI::App* a = at; a; a = a->get_parent())
+            for (const std::string& extra : a->remaining()) extras.push_back(extra);
         std::string hints;
-        for (const std::string& extra : at->remaining()) {
+        for (const std::string& extra : extras) {
             const bool option = !extra.empty() && extra[0] == '-';
             const std::string word = option ? extra.substr(0, extra.find('=')) : extra;
             const std::string guess =

@@ -9,6 +9,7 @@
 #include "commands.h"
 #include "mpi_render.h"
 #include "rtt/error.h"
+#include "rtt/isa.h"
 #include "rtt/version.h"
 
 namespace {
@@ -23,6 +24,16 @@ int fail(std::string message, int code) {
     return code;
 }
 
+// "rtt 0.2.0 (avx512 kernels of sse4.2, avx2, avx512)": the version and which kernels run.
+std::string version_line() {
+    std::string isas;
+    for (rtt::Isa isa : rtt::runnable_isas())
+        isas += (isas.empty() ? "" : ", ") + std::string(rtt::isa_name(isa));
+    return std::string("rtt ") + rtt::version_string + " (" +
+           std::string(rtt::isa_name(rtt::active_isa())) + " kernels; this CPU and build run " +
+           isas + ")";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -33,7 +44,18 @@ int main(int argc, char** argv) {
         "the statistics."};
     app.name("rtt");
     app.require_subcommand(0, 1);
-    app.set_version_flag("--version", std::string("rtt ") + rtt::version_string);
+    try {
+        app.set_version_flag("--version", version_line());  // also checks RTT_ISA
+    } catch (const rtt::Error& e) {
+        return fail(e.what(), 2);
+    }
+    // Global options may follow the subcommand too: `rtt render --isa avx2 ...`.
+    app.fallthrough();
+    app.add_option_function<std::string>(
+           "--isa", [](const std::string& isa) { rtt::limit_isa(rtt::parse_isa(isa)); },
+           "Cap the SIMD kernels: sse4.2, avx2 or avx512 (default: the widest this CPU runs, or "
+           "the environment's RTT_ISA). Results are the same bits; only speed differs.")
+        ->check(CLI::IsMember({"sse4.2", "avx2", "avx512"}));
     rtt::cli::add_render_command(app);
     rtt::cli::add_info_command(app);
     rtt::cli::add_scenes_command(app);

@@ -12,6 +12,33 @@
 #include "rtt/error.h"
 
 namespace rtt {
+namespace {
+
+// The rays of a camera tile of width x height samples, row-major, t in [0, inf).
+void camera_rays(const CameraTile& tile, int width, int height, std::span<Ray> out) {
+    constexpr int K = simd_max_width;
+    RTT_CHECK_EQ(out.size(), size_t(width) * size_t(height));
+    const CameraFrame& f = *tile.frame;
+    // Column factors padded to whole vectors (the padding lanes are computed and dropped).
+    std::vector<float> a(size_t((width + K - 1) / K * K));
+    column_factors(tile, width, a.data());
+    for (size_t c = size_t(width); c < a.size(); ++c) a[c] = a[size_t(width) - 1];
+    alignas(64) float dx[K], dy[K], dz[K];
+    for (int sr = 0; sr < height; ++sr) {
+        const float b = row_factor(tile, sr);
+        Ray* row = out.data() + size_t(sr) * size_t(width);
+        for (int sc = 0; sc < width; sc += K) {
+            const Vec3v<K> d = camera_directions<K>(f, vfloat<K>::loadu(&a[size_t(sc)]), b);
+            store(dx, d.x);
+            store(dy, d.y);
+            store(dz, d.z);
+            for (int l = 0; l < K && sc + l < width; ++l)
+                row[sc + l] = Ray{f.position, Vec3f{dx[l], dy[l], dz[l]}, 0.f, pos_inf};
+        }
+    }
+}
+
+}  // namespace
 
 CameraRays::CameraRays(const Camera& camera, int width, int height, int aa) {
     if (width <= 0 || height <= 0) throw Error("image size must be positive");
@@ -70,29 +97,6 @@ Camera default_camera_for(const Bbox3f& box, float fovy_deg) {
     // From the front-right-top diagonal, y up.
     const Vec3f dir = normalize(Vec3f{1.f, 0.6f, 1.3f});
     return Camera{c + dir * dist, c, Vec3f{0.f, 1.f, 0.f}, fovy_deg};
-}
-
-void camera_rays(const CameraTile& tile, int width, int height, std::span<Ray> out) {
-    constexpr int K = simd_max_width;
-    RTT_CHECK_EQ(out.size(), size_t(width) * size_t(height));
-    const CameraFrame& f = *tile.frame;
-    // Column factors padded to whole vectors (the padding lanes are computed and dropped).
-    std::vector<float> a(size_t((width + K - 1) / K * K));
-    column_factors(tile, width, a.data());
-    for (size_t c = size_t(width); c < a.size(); ++c) a[c] = a[size_t(width) - 1];
-    alignas(64) float dx[K], dy[K], dz[K];
-    for (int sr = 0; sr < height; ++sr) {
-        const float b = row_factor(tile, sr);
-        Ray* row = out.data() + size_t(sr) * size_t(width);
-        for (int sc = 0; sc < width; sc += K) {
-            const Vec3v<K> d = camera_directions<K>(f, vfloat<K>::loadu(&a[size_t(sc)]), b);
-            store(dx, d.x);
-            store(dy, d.y);
-            store(dz, d.z);
-            for (int l = 0; l < K && sc + l < width; ++l)
-                row[sc + l] = Ray{f.position, Vec3f{dx[l], dy[l], dz[l]}, 0.f, pos_inf};
-        }
-    }
 }
 
 }  // namespace rtt

@@ -6,9 +6,11 @@
 #include <span>
 
 #include "rtt/camera.h"
+#include "simd/isa.h"
 #include "simd/simd.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 /// normalize(forward + a right - b up2) for K samples of one sample row (per-lane a, one b):
 /// the scalar code's float operations in its order (rtt compiles without FMA contraction), and
@@ -36,7 +38,5 @@ inline float row_factor(const CameraTile& tile, int sr) {
     return tile.frame->b(tile.y0 + sr / k, sr % k);
 }
 
-/// The rays of a camera tile of width x height samples, row-major, t in [0, inf).
-void camera_rays(const CameraTile& tile, int width, int height, std::span<Ray> out);
-
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

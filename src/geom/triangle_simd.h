@@ -18,9 +18,11 @@
 #include <type_traits>
 
 #include "geom/triangle.h"
+#include "simd/isa.h"
 #include "simd/simd.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 /// Component k of v. Vec3f is three contiguous floats (checked below); indexing from &v.x
 /// avoids the compare-and-branch chain Vec3f::operator[] compiles to.
@@ -200,4 +202,5 @@ struct PacketHit {
 };
 static_assert(sizeof(PacketHit<4>) == 2 * sizeof(vfloat<4>));
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

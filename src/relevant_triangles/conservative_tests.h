@@ -41,8 +41,10 @@
 #include <cstdint>
 
 #include "relevant_triangles/shaft.h"
+#include "simd/isa.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 /// One triangle against the 4 corners.
 struct CornerVerdict {
@@ -138,4 +140,5 @@ RTT_FORCEINLINE CornerVerdict test_corners(const Shaft& s, const TriangleVerts& 
     return out;
 }
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

@@ -5,6 +5,7 @@
 #include "trace/trace_ray.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 namespace {
 
 using vf = vfloat4;
@@ -232,4 +233,5 @@ template CornerStatus trace_corners<Query::any_hit>(const KdTree&, std::span<con
                                                     Shaft&, const ShaftRegion*, const Ray (&)[4],
                                                     TriangleMailbox&, CornerResult&);
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

@@ -42,8 +42,10 @@
 #include "relevant_triangles/relevant_list.h"
 #include "rtt/kdtree.h"
 #include "rtt/math.h"
+#include "simd/isa.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 /// Capacity of the deferred nodes of one tile; more ends RTT for the tile.
 inline constexpr int rtt_max_deferred = 256;
@@ -199,4 +201,5 @@ CornerStatus collect_deferred(const KdTree& tree, std::span<const TriangleVerts>
                               const Shaft& shaft, const ShaftRegion& region, int budget,
                               TriangleMailbox& mailbox, CornerResult& out);
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

@@ -6,6 +6,7 @@
 #include "simd/simd.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 template <Query Q>
 CornerStatus collect_deferred(const KdTree& tree, std::span<const TriangleVerts> triangles,
@@ -102,4 +103,5 @@ template CornerStatus collect_deferred<Query::any_hit>(const KdTree&,
                                                        const ShaftRegion&, int, TriangleMailbox&,
                                                        CornerResult&);
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

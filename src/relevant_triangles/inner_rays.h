@@ -15,8 +15,10 @@
 #include "relevant_triangles/relevant_list.h"
 #include "relevant_triangles/shaft.h"
 #include "rtt/tracer.h"
+#include "simd/isa.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 /// K consecutive samples of a tile, [base, base + K), as structure of arrays. Lanes past the
 /// tile's end repeat its last ray (finite values, no slow denormals); `lanes` marks the
@@ -180,4 +182,5 @@ RTT_FORCEINLINE vbool<K> occluded_by_list(const WatertightPacket<K>& wp, vbool<K
     return blocked;
 }
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

@@ -2,7 +2,9 @@
 // paper's corner packet stopped at the first sign of incoherence, for small tiles from the apex.
 #include "relevant_triangles/rtt_tracer.h"
 
-namespace rtt::rtt_detail {
+namespace rtt {
+inline namespace RTT_ISA_NS {
+namespace rtt_detail {
 
 ListOutcome RttTracer::list_lean(const RayTile& tile, PrimaryShaft& p) const {
     // Small tiles (takes_lean_pass): the paper's procedure, leaner than the walk. The corners go
@@ -37,4 +39,6 @@ ListOutcome RttTracer::list_lean(const RayTile& tile, PrimaryShaft& p) const {
     return ListOutcome::listed;
 }
 
-}  // namespace rtt::rtt_detail
+}  // namespace rtt_detail
+}  // namespace RTT_ISA_NS
+}  // namespace rtt

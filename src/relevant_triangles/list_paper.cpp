@@ -3,7 +3,9 @@
 #include "relevant_triangles/rtt_tracer.h"
 #include "trace/trace_packet.h"
 
-namespace rtt::rtt_detail {
+namespace rtt {
+inline namespace RTT_ISA_NS {
+namespace rtt_detail {
 
 ListOutcome RttTracer::list_paper(const RayTile& tile, PrimaryShaft& p) const {
     // The paper's rules: the corners as one SSE packet with the incoherence flag, answered only
@@ -39,4 +41,6 @@ ListOutcome RttTracer::list_paper(const RayTile& tile, PrimaryShaft& p) const {
     return ListOutcome::listed;
 }
 
-}  // namespace rtt::rtt_detail
+}  // namespace rtt_detail
+}  // namespace RTT_ISA_NS
+}  // namespace rtt

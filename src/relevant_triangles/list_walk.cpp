@@ -3,7 +3,9 @@
 #include "relevant_triangles/rtt_tracer.h"
 #include "relevant_triangles/walk.h"
 
-namespace rtt::rtt_detail {
+namespace rtt {
+inline namespace RTT_ISA_NS {
+namespace rtt_detail {
 
 ListOutcome RttTracer::list_walk(const RayTile& tile, PrimaryShaft& p) const {
     // One walk through the shaft (walk.h), narrowed as the corners' hits come nearer. Each
@@ -52,4 +54,6 @@ ListOutcome RttTracer::list_walk(const RayTile& tile, PrimaryShaft& p) const {
     return ListOutcome::listed;
 }
 
-}  // namespace rtt::rtt_detail
+}  // namespace rtt_detail
+}  // namespace RTT_ISA_NS
+}  // namespace rtt

@@ -17,6 +17,7 @@
 #include "trace/trace_packet.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 namespace rtt_detail {
 
 // ---- primary and reflected rays -----------------------------------------------------------
@@ -247,4 +248,5 @@ uint64_t RttTracer::answer_primary(const RayTile& tile, const Shaft& s, const Re
 
 }  // namespace rtt_detail
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

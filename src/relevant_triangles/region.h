@@ -5,8 +5,10 @@
 
 #include "relevant_triangles/shaft.h"
 #include "relevant_triangles/tolerances.h"
+#include "simd/isa.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 /// An axis-aligned box as two SIMD vectors (x, y, z, unused): traversal code narrows one
 /// coordinate per split with a lane select, which avoids store-forwarding stalls.
@@ -219,4 +221,5 @@ private:
     float c_[4] = {0.f, 0.f, -1.f, -1.f};  // c = -1: never separating
 };
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

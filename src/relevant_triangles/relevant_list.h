@@ -7,7 +7,10 @@
 #include <cstdint>
 #include <iterator>
 
+#include "simd/isa.h"
+
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 /// Capacity of a tile's relevant list; a longer list ends RTT for the tile (it would not pay).
 inline constexpr int rtt_max_relevant = 64;
@@ -56,4 +59,5 @@ private:
     uint32_t used_ = 0;
 };
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

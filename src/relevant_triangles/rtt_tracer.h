@@ -36,9 +36,12 @@
 #include "relevant_triangles/tile.h"
 #include "relevant_triangles/tolerances.h"
 #include "rtt/tracer.h"
+#include "simd/isa.h"
 #include "simd/simd.h"
 
-namespace rtt::rtt_detail {
+namespace rtt {
+inline namespace RTT_ISA_NS {
+namespace rtt_detail {
 
 /// Adds its lifetime in nanoseconds to `ns`: wraps each call of the fallback
 /// (TraceStats::fallback_ns). Two clock reads per declined tile, of 256 rays or more.
@@ -215,4 +218,6 @@ private:
     bool extended_;
 };
 
-}  // namespace rtt::rtt_detail
+}  // namespace rtt_detail
+}  // namespace RTT_ISA_NS
+}  // namespace rtt

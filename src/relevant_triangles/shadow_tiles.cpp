@@ -11,7 +11,9 @@
 #include "trace/packet_blocks.h"
 #include "trace/trace_packet.h"
 
-namespace rtt::rtt_detail {
+namespace rtt {
+inline namespace RTT_ISA_NS {
+namespace rtt_detail {
 
 // ---- shadow segments ----------------------------------------------------------------------
 
@@ -202,4 +204,6 @@ uint64_t RttTracer::answer_shadows(const SegmentTile& tile, const Shaft& s,
     return answered;
 }
 
-}  // namespace rtt::rtt_detail
+}  // namespace rtt_detail
+}  // namespace RTT_ISA_NS
+}  // namespace rtt

@@ -6,6 +6,7 @@
 #include "relevant_triangles/tolerances.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 namespace {
 
 bool same_bits(const Vec3f& a, const Vec3f& b) {
@@ -129,4 +130,5 @@ bool shaft_accepts(const Shaft& s, const Ray& r) {
     return so >= s.start_lo && so <= s.start_hi && eo >= s.end_lo && eo <= s.end_hi;
 }
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

@@ -43,9 +43,11 @@
 
 #include "geom/triangle.h"
 #include "rtt/math.h"
+#include "simd/isa.h"
 #include "simd/simd.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 /// Sample index of corner lane i in a width x height grid: rays[0], rays[w-1], rays[(h-1)w],
 /// rays[hw-1] (lanes 0, 1, 2, 3; around the quad the order is 0, 1, 3, 2).
@@ -118,4 +120,5 @@ inline bool complete_shaft(Shaft& shaft) {
 /// (Scalar reference of the K-wide check of inner_rays.h.)
 bool shaft_accepts(const Shaft& shaft, const Ray& ray);
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

@@ -11,9 +11,11 @@
 #include "relevant_triangles/region.h"
 #include "rtt/rtt_options.h"
 #include "rtt/tracer.h"
+#include "simd/isa.h"
 #include "trace/trace_packet.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 /// Largest tile RTT takes on: 4x4 pixels with 16 x 16 antialiasing.
 inline constexpr int rtt_max_tile_samples = rtt_max_samples_per_tile;
@@ -98,4 +100,5 @@ private:
     std::vector<Normal> normals_;
 };
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

@@ -35,9 +35,11 @@
 #include "relevant_triangles/corner_pass.h"
 #include "relevant_triangles/region.h"
 #include "rtt/kdtree.h"
+#include "simd/isa.h"
 #include "simd/simd.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 /// What `narrow` decided after the corners' hits changed.
 enum class Narrowed {
@@ -284,4 +286,5 @@ CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> trian
     return CornerStatus::traced;
 }
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

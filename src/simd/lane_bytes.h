@@ -8,7 +8,10 @@
 #include <cstdint>
 #include <cstring>
 
+#include "simd/isa.h"
+
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 /// Bits of the nonzero bytes among p[0], ..., p[n - 1] (n <= 16; nothing past them is read).
 inline uint32_t nonzero_bytes(const uint8_t* p, int n) {
@@ -31,4 +34,5 @@ inline void store_bits_as_bytes(uint8_t* p, uint32_t bits) {
 #endif
 }
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

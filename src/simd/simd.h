@@ -3,6 +3,7 @@
 // packet widths this build can instantiate.
 #pragma once
 
+#include "simd/isa.h"
 #include "simd/vfloat4.h"
 
 #if defined(__AVX2__)
@@ -18,6 +19,7 @@
 #include "simd/vec3v.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 #if defined(RTT_HAVE_SIMD16)
 inline constexpr int simd_max_width = 16;
@@ -27,4 +29,5 @@ inline constexpr int simd_max_width = 8;
 inline constexpr int simd_max_width = 4;
 #endif
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

@@ -12,8 +12,10 @@
 #include <cstdint>
 
 #include "core/platform.h"
+#include "simd/isa.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 template <int K>
 struct vfloat;
@@ -26,4 +28,5 @@ struct vbool;
 template <int K>
 inline constexpr uint32_t all_lanes = (1u << K) - 1u;
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

@@ -3,9 +3,11 @@
 
 #include <immintrin.h>
 
+#include "simd/isa.h"
 #include "simd/varying.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 template <>
 struct vbool<4> {
@@ -66,4 +68,5 @@ RTT_FORCEINLINE int popcount(vbool4 a) {
     return std::popcount(movemask(a));
 }
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

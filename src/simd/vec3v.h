@@ -3,9 +3,11 @@
 #pragma once
 
 #include "rtt/math.h"
+#include "simd/isa.h"
 #include "simd/varying.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 template <typename T>
 struct Vec3 {
@@ -51,4 +53,5 @@ RTT_FORCEINLINE Vec3<T> select(const M& m, const Vec3<T>& t, const Vec3<T>& f) {
 template <int K>
 using Vec3v = Vec3<vfloat<K>>;
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

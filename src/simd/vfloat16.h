@@ -3,6 +3,7 @@
 
 #include <immintrin.h>
 
+#include "simd/isa.h"
 #include "simd/vfloat4.h"
 #include "simd/vint16.h"
 
@@ -14,6 +15,7 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 template <>
 struct alignas(64) vfloat<16> {
@@ -214,6 +216,7 @@ RTT_FORCEINLINE void load_record_rows3(const float* p, std::ptrdiff_t stride, vf
     }
 }
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt
 
 #pragma GCC diagnostic pop

@@ -5,9 +5,11 @@
 
 #include <cstddef>
 
+#include "simd/isa.h"
 #include "simd/vint4.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 template <>
 struct alignas(16) vfloat<4> {
@@ -177,4 +179,5 @@ RTT_FORCEINLINE void load_records3(const float* p, vfloat4 (&out)[3]) {
     load_record_rows3(p, 6, out);
 }
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

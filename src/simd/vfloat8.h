@@ -3,10 +3,12 @@
 
 #include <immintrin.h>
 
+#include "simd/isa.h"
 #include "simd/vfloat4.h"
 #include "simd/vint8.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 template <>
 struct alignas(32) vfloat<8> {
@@ -198,4 +200,5 @@ RTT_FORCEINLINE void load_record_rows3(const float* p, std::ptrdiff_t stride, vf
     for (int c = 0; c < 3; ++c) out[c] = combine(lo[c], hi[c]);
 }
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

@@ -3,6 +3,7 @@
 
 #include <immintrin.h>
 
+#include "simd/isa.h"
 #include "simd/vbool16.h"
 
 // GCC 12's AVX-512 intrinsics (min, max, sqrt, reductions...) pass _mm512_undefined_*() as the
@@ -13,6 +14,7 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 template <>
 struct alignas(64) vint<16> {
@@ -95,6 +97,7 @@ RTT_FORCEINLINE vint16 select(vbool16 m, vint16 t, vint16 f) {
     return _mm512_mask_blend_epi32(m, f, t);
 }
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt
 
 #pragma GCC diagnostic pop

@@ -3,9 +3,11 @@
 
 #include <immintrin.h>
 
+#include "simd/isa.h"
 #include "simd/vbool4.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 template <>
 struct alignas(16) vint<4> {
@@ -91,4 +93,5 @@ RTT_FORCEINLINE vint4 select(vbool4 m, vint4 t, vint4 f) {
     return _mm_castps_si128(_mm_blendv_ps(_mm_castsi128_ps(f), _mm_castsi128_ps(t), m));
 }
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

@@ -3,9 +3,11 @@
 
 #include <immintrin.h>
 
+#include "simd/isa.h"
 #include "simd/vbool8.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 template <>
 struct alignas(32) vint<8> {
@@ -92,4 +94,5 @@ RTT_FORCEINLINE vint8 select(vbool8 m, vint8 t, vint8 f) {
     return _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(f), _mm256_castsi256_ps(t), m));
 }
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

@@ -1,4 +1,5 @@
-// One factory per tracer file; registry.cpp maps kind names to them.
+// One factory per tracer file that is compiled once (the SIMD kernels' are in kernels.h);
+// registry.cpp maps kind names to them.
 #pragma once
 
 #include <memory>
@@ -11,13 +12,6 @@ namespace rtt {
 
 std::unique_ptr<Tracer> make_brute_force_tracer(const Scene& scene, const KdTree& tree);
 std::unique_ptr<Tracer> make_ray_tracer(const Scene& scene, const KdTree& tree);
-/// SIMD packets of K rays (trace_packet.cpp); K = 8 and 16 exist only in builds whose compiler
-/// targets AVX2 / AVX-512 (RTT_HAVE_SIMD8 / RTT_HAVE_SIMD16 in simd/simd.h).
-template <int K>
-std::unique_ptr<Tracer> make_packet_tracer(const Scene& scene, const KdTree& tree);
-/// Shaft tiles with one origin as one large packet, one octant at a time (trace_frustum.h),
-/// other tiles and shadows as the widest packets (trace_packet.cpp).
-std::unique_ptr<Tracer> make_frustum_tracer(const Scene& scene, const KdTree& tree);
 #ifdef RTT_HAVE_EMBREE
 /// Embree 3 (trace_embree.cpp): how its tracers hand it rays. They build their own BVH.
 enum class EmbreeMode {

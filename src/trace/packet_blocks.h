@@ -6,11 +6,13 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "simd/isa.h"
 #include "simd/simd.h"
 #include "simd/varying.h"
 #include "trace/trace_packet.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 /// Stores the fields of a packet held in registers (org xyz, dir xyz, tmin, tmax) as vectors,
 /// which the traversal's vector loads forward without a stall (staging lane by lane with scalar
@@ -119,4 +121,5 @@ void for_each_segment_block(const SegmentTile& tile, Wanted&& wanted, Fn&& fn) {
         fn);
 }
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

@@ -4,10 +4,12 @@
 #pragma once
 
 #include "rtt/math.h"
+#include "simd/isa.h"
 #include "simd/simd.h"
 #include "trace/trace_ray.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 /// Per lane: t0, t1 = the clipped interval (empty when t0 > t1, or NaN-free as trace_ray's),
 /// t_scale = the ray-parameter length of the scene seen from the origin. `box` is
@@ -37,4 +39,5 @@ RTT_FORCEINLINE void clip_to_root(const Bbox3f& box, const vfloat<K> (&org)[3], 
     t1 = select(t1 < tmax, min(t1 + (abs(t1) + t_scale) * vf(kd_margin), tmax), tmax);
 }
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

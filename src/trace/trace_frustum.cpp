@@ -13,6 +13,7 @@
 #include "trace/trace_ray.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 namespace {
 
 constexpr int K = simd_max_width;
@@ -374,4 +375,5 @@ bool trace_frustum(const KdTree& tree, std::span<const TriangleVerts> triangles,
     return true;
 }
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

@@ -18,8 +18,10 @@
 #include "geom/triangle.h"
 #include "rtt/kdtree.h"
 #include "rtt/math.h"
+#include "simd/isa.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 /// Closest hit of every ray of a `width` x `height` grid (row-major; the grid only groups
 /// neighbours into SIMD blocks): hits[i] == trace_ray(tree, triangles, rays[i]). Returns false,
@@ -27,4 +29,5 @@ namespace rtt {
 bool trace_frustum(const KdTree& tree, std::span<const TriangleVerts> triangles,
                    std::span<const Ray> rays, int width, int height, std::span<Hit> hits);
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

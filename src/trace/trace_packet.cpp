@@ -5,7 +5,7 @@
 
 #include "geom/triangle_simd.h"
 #include "simd/simd.h"
-#include "trace/factories.h"
+#include "trace/kernels.h"
 #include "trace/packet_blocks.h"
 #include "trace/root_clip.h"
 #include "trace/trace_frustum.h"
@@ -13,6 +13,7 @@
 #include "trace/traced_tile.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 namespace {
 
 /// One deferred subtree: node, per-lane [t0, t1] and the lanes that visit it.
@@ -411,4 +412,5 @@ RTT_INSTANTIATE_PACKET(8)
 RTT_INSTANTIATE_PACKET(16)
 #endif
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

@@ -18,8 +18,10 @@
 #include "rtt/kdtree.h"
 #include "rtt/math.h"
 #include "rtt/tracer.h"
+#include "simd/isa.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
 /// Shape of the block of tile samples one packet covers: 2x2 for K = 4 (the paper's
 /// baseline), 4x2 for K = 8, 4x4 for K = 16. Lane = row * packet_width + column.
@@ -98,4 +100,5 @@ uint64_t occluded_tile_packets(const KdTree& tree, std::span<const TriangleVerts
                                const SegmentTile& tile, std::span<uint8_t> visible,
                                PacketStats* stats = nullptr);
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

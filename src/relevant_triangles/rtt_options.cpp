@@ -1,12 +1,9 @@
-// RttOptions' checks and the factory of the RTT tracers (rtt_tracer.h).
-#include "relevant_triangles/rtt_tracer.h"
+// RttOptions' checks (rtt/rtt_options.h); compiled once, outside the per-ISA kernels.
+#include "rtt/rtt_options.h"
 
-#include <memory>
 #include <string>
 
 #include "rtt/error.h"
-#include "rtt/rtt_options.h"
-#include "trace/factories.h"
 
 namespace rtt {
 
@@ -20,12 +17,6 @@ void RttOptions::validate() const {
     if (lean_max_samples < 0 || lean_max_samples > rtt_max_samples_per_tile)
         throw Error("RttOptions: lean_max_samples must be in 0.." +
                     std::to_string(rtt_max_samples_per_tile));
-}
-
-std::unique_ptr<Tracer> make_rtt_tracer(const Scene& scene, const KdTree& tree,
-                                        const RttOptions& options) {
-    options.validate();
-    return std::make_unique<rtt_detail::RttTracer>(scene, tree, options);
 }
 
 }  // namespace rtt
