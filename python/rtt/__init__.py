@@ -11,11 +11,11 @@ tracing (Dmitriev, Havran, Seidel 2004), from numpy.
 
 python/README.md documents every call.
 """
-from ._rtt import (Scene, Tracer, __version__, builtin_scenes, camera_rays, load, render,
-                   tracer_kinds)
+from ._rtt import (Scene, Tracer, __version__, builtin_scenes, camera_rays, isa, limit_isa, load,
+                   render, tracer_kinds)
 from .buffers import read_hits, read_shadows
 
 __all__ = [
-    "Scene", "Tracer", "__version__", "builtin_scenes", "camera_rays", "load", "read_hits",
-    "read_shadows", "render", "tracer_kinds"
+    "Scene", "Tracer", "__version__", "builtin_scenes", "camera_rays", "isa", "limit_isa", "load",
+    "read_hits", "read_shadows", "render", "tracer_kinds"
 ]

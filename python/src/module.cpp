@@ -13,6 +13,7 @@
 #include "rtt/builtin_scenes.h"
 #include "rtt/camera.h"
 #include "rtt/error.h"
+#include "rtt/isa.h"
 #include "rtt/scene_io.h"
 #include "rtt/version.h"
 
@@ -123,6 +124,14 @@ PYBIND11_MODULE(_rtt, m) {
         }
     });
 
+    m.def(
+        "isa", [] { return std::string(isa_name(active_isa())); },
+        "The SIMD kernels tracers made now use: 'sse4.2', 'avx2' or 'avx512' (the widest this "
+        "CPU runs, capped by RTT_ISA or limit_isa).");
+    m.def(
+        "limit_isa", [](const std::string& isa) { limit_isa(parse_isa(isa)); }, py::arg("isa"),
+        "Caps the SIMD kernels of tracers made from now on ('sse4.2', 'avx2' or 'avx512'). "
+        "Results are the same bits at every ISA; only speed differs.");
     m.def("tracer_kinds", &tracer_kinds,
           "Tracer kinds this build offers ('ray', 'packet', 'rtt', ...).");
     m.def(

@@ -128,6 +128,27 @@ def test_every_kind_agrees_with_ray(scene, kind):
     np.testing.assert_array_equal(vis, tri_ref < 0)
 
 
+def test_every_isa_gives_the_same_bits(scene):
+    o, d = random_rays(3001)
+    widest = rtt.isa()
+    assert widest in ("sse4.2", "avx2", "avx512")
+    try:
+        answers = []
+        for isa in ("sse4.2", "avx2", "avx512"):
+            rtt.limit_isa(isa)  # an ISA this CPU lacks falls back to the widest below it
+            assert rtt.isa() in ("sse4.2", "avx2", "avx512")
+            answers.append(scene.tracer("rtt").intersect(o, d))
+        for t, tri in answers[1:]:
+            np.testing.assert_array_equal(tri, answers[0][1])
+            np.testing.assert_array_equal(t, answers[0][0])
+        rtt.limit_isa("sse4.2")
+        assert rtt.isa() == "sse4.2" and "packet16" not in rtt.tracer_kinds()
+        with pytest.raises(RuntimeError, match="unknown ISA"):
+            rtt.limit_isa("mmx")
+    finally:
+        rtt.limit_isa(widest)
+
+
 @pytest.mark.skipif(not EMBREE_KINDS, reason="built without Embree")
 def test_embree_modes_and_builds(scene):
     # Packets, stream and single rays, each with the HIGH and the MEDIUM build; Embree's own

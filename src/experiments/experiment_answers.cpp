@@ -8,10 +8,22 @@
 #include <algorithm>
 #include <cmath>
 
+#include "experiments/answer_limit.h"
 #include "experiments/experiment_common.h"
-#include "geom/camera_simd.h"
-#include "geom/triangle_simd.h"
 #include "rtt/error.h"
+#include "rtt/isa.h"
+
+// The limit kernel of the ISAs compiled beside this file's (CMakeLists.txt).
+#ifdef RTT_KERNELS_AVX2
+namespace rtt::isa_avx2 {
+int answer_limit_kernel(int count, int rounds, std::span<Hit> hits);
+}
+#endif
+#ifdef RTT_KERNELS_AVX512
+namespace rtt::isa_avx512 {
+int answer_limit_kernel(int count, int rounds, std::span<Hit> hits);
+}
+#endif
 
 namespace rtt::bench {
 
@@ -110,44 +122,24 @@ FrameCosts answered_costs(const BenchConfig& config, const BenchScene& scene, in
     return out;
 }
 
-/// The limit of an answer, per ray: 16 camera directions made in registers, their watertight
-/// constants, `count` triangles tested (every ray hits the last, nearest one), the hits written.
-double limit_ns_per_ray(int count, int reps) {
-    constexpr int K = simd_max_width;
-    const CameraRays camera({{0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 40}, 1024, 768, 1);
-    const CameraTile tile = camera.tile(100, 80);
-    constexpr int side = 16;
-    std::vector<float> columns(side);
-    column_factors(tile, side, columns.data());
-    std::vector<TriangleVerts> tris;
-    for (int i = 0; i < count; ++i) {  // large triangles in front of the tile, farthest first
-        const float z = -10.f + float(i);
-        tris.push_back({{-50, -50, z}, {50, -50, z}, {0, 50, z}});
-    }
+/// The limit of an answer, per ray, and its lanes: answer_limit_kernel of the active ISA.
+std::pair<double, int> limit_ns_per_ray(int count, int reps) {
+    constexpr int side = 16, rounds = 20000;
     std::vector<Hit> hits(size_t(side) * side);
-    const int blocks = side * side / K, rounds = 20000;
+    const Isa isa = active_isa();
+    int lanes = 0;
     const double s = median_seconds(reps, [&] {
-        for (int round = 0; round < rounds; ++round)
-            for (int blk = 0; blk < blocks; ++blk) {
-                const int base = blk * K, row = base / side, col = base % side;
-                const Vec3v<K> dir = camera_directions<K>(
-                    camera.frame(), vfloat<K>::loadu(&columns[size_t(col)]), row_factor(tile, row));
-                const WatertightPacket<K> wp(Vec3v<K>(camera.origin()), dir, vfloat<K>(0.f),
-                                             vfloat<K>(pos_inf), vbool<K>(true));
-                PacketHit<K> best;
-                for (int j = 0; j < count; ++j) {
-                    vfloat<K> t;
-                    const vbool<K> hit =
-                        intersect_watertight<K>(wp, vbool<K>(true), tris[size_t(j)], t);
-                    best.update(hit, t, uint32_t(j));
-                }
-                storeu_pairs(reinterpret_cast<float*>(hits.data() + base), best.t,
-                             as_float(best.tri));
-            }
+        if (isa == compiled_isa) lanes = answer_limit_kernel(count, rounds, hits);
+#ifdef RTT_KERNELS_AVX2
+        if (isa == Isa::avx2) lanes = isa_avx2::answer_limit_kernel(count, rounds, hits);
+#endif
+#ifdef RTT_KERNELS_AVX512
+        if (isa == Isa::avx512) lanes = isa_avx512::answer_limit_kernel(count, rounds, hits);
+#endif
     });
     if (hits[0].tri != uint32_t(count - 1))
         throw Error("rtt bench answers: the limit kernel missed its nearest triangle");
-    return 1e9 * s / (double(rounds) * side * side);
+    return {1e9 * s / (double(rounds) * side * side), lanes};
 }
 
 }  // namespace
@@ -188,11 +180,11 @@ ExperimentResult run_answers(const BenchConfig& config, SceneCache& scenes) {
     }
     nlohmann::json limits = nlohmann::json::object();
     for (const int count : {1, 4}) {
-        const double ns = limit_ns_per_ray(count, config.repetitions);
+        const auto [ns, lanes] = limit_ns_per_ray(count, config.repetitions);
         limits[std::to_string(count)] = ns;
         t.notes.push_back("The limit with " + std::to_string(count) + " triangle" +
                           (count > 1 ? "s" : "") + " per ray (make, test, write; " +
-                          std::to_string(simd_max_width) + " lanes): " + format_fixed(ns, 2) +
+                          std::to_string(lanes) + " lanes): " + format_fixed(ns, 2) +
                           " ns per ray.");
     }
     t.notes.push_back(

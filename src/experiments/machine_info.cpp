@@ -5,8 +5,8 @@
 #include <fstream>
 #include <thread>
 
+#include "rtt/isa.h"
 #include "rtt_git_commit.h"  // generated at build time
-#include "simd/simd.h"
 
 namespace rtt::bench {
 namespace {
@@ -66,8 +66,9 @@ MachineInfo machine_info() {
     MachineInfo m;
     m.cpu_model = cpu_model();
     m.logical_cpus = int(std::thread::hardware_concurrency());
-    m.simd_width = simd_max_width;
-    m.isa = simd_max_width == 16 ? "AVX-512" : simd_max_width == 8 ? "AVX2" : "SSE";
+    const Isa isa = active_isa();
+    m.simd_width = isa == Isa::avx512 ? 16 : isa == Isa::avx2 ? 8 : 4;
+    m.isa = std::string(isa_name(isa));
     m.compiler = compiler();
     m.git_commit = git_commit();
     m.date = now_iso8601();

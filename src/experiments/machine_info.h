@@ -8,8 +8,8 @@ namespace rtt::bench {
 struct MachineInfo {
     std::string cpu_model;     ///< /proc/cpuinfo "model name" ("unknown" if unreadable).
     int logical_cpus = 0;      ///< std::thread::hardware_concurrency().
-    std::string isa;           ///< Widest SIMD the build targets: "AVX-512", "AVX2" or "SSE".
-    int simd_width = 4;        ///< Lanes of that SIMD (simd_max_width).
+    std::string isa;           ///< The kernels that run (rtt/isa.h): "avx512", "avx2" or "sse4.2".
+    int simd_width = 4;        ///< Lanes of their widest packets.
     std::string compiler;      ///< e.g. "g++ 12.2.0".
     std::string git_commit;    ///< HEAD of the source tree, "+dirty" if modified; "unknown" if
                                ///< the sources are not a git checkout or git is missing.
