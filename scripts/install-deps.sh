@@ -14,6 +14,7 @@ packages=(
   clang libclang-rt-14-dev  # scripts/fuzz.sh: libFuzzer and the sanitizer runtimes for clang 14
   llvm                      # llvm-symbolizer: function names and lines in clang's sanitizer reports
   clang-format              # scripts/format.sh: every C++ file follows .clang-format
+  qemu-user                 # tests/emulated_cpus.sh: the one binary on SSE4.2 and AVX2 CPUs
 )
 
 missing=()
