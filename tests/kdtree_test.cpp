@@ -23,7 +23,9 @@
 #include "rtt/camera.h"
 #include "rtt/error.h"
 #include "rtt/tracer.h"
+#include "same_hit.h"
 #include "trace/brute_force.h"
+#include "trace/trace_bvh.h"
 #include "trace/trace_ray.h"
 #include "triangle_soup.h"
 
@@ -248,16 +250,21 @@ bool hits_degenerate_off_itself(const Tris& tris, const Ray& r) {
     return false;
 }
 
-/// Closest hit and any-hit of the reference tracer against brute force, ray by ray.
+/// Closest hit and any-hit of the reference tracer, and of the BVH's, against brute force, ray
+/// by ray.
 Mismatches compare_with_brute_force(const KdTree& tree, const Tris& tris,
                                     const std::vector<Ray>& rays) {
     Mismatches m;
+    const Bvh4 bvh = build_bvh4(tris);
     for (const Ray& r : rays) {
         const Hit expect = trace_brute_force(tris, r);
         const Hit got = trace_ray(tree, tris, r);
+        const Hit got_bvh = trace_bvh(bvh, r);
         m.hits += expect.valid();
-        const bool closest_differs = !(got == expect);
-        const bool occluded_differs = occluded_ray(tree, tris, r) != occluded_brute_force(tris, r);
+        const bool blocked = occluded_brute_force(tris, r);
+        const bool closest_differs = !(got == expect) || !same_hit(got_bvh, expect);
+        const bool occluded_differs =
+            occluded_ray(tree, tris, r) != blocked || occluded_bvh(bvh, r) != blocked;
         if ((closest_differs || occluded_differs) && hits_degenerate_off_itself(tris, r)) {
             ++m.excluded;
             continue;
@@ -269,7 +276,8 @@ Mismatches compare_with_brute_force(const KdTree& tree, const Tris& tris,
                 ADD_FAILURE() << "ray org " << r.org.x << "," << r.org.y << "," << r.org.z
                               << " dir " << r.dir.x << "," << r.dir.y << "," << r.dir.z << " ["
                               << r.tmin << "," << r.tmax << "]: kd " << got.tri << " t=" << got.t
-                              << ", brute " << expect.tri << " t=" << expect.t;
+                              << ", bvh " << got_bvh.tri << " t=" << got_bvh.t << ", brute "
+                              << expect.tri << " t=" << expect.t;
         }
     }
     return m;

@@ -15,6 +15,15 @@ Bbox3f padded_bounds(const Bbox3f& box) {
     return {box.lo - pad, box.hi + pad};
 }
 
+float scene_t_scale(const Bbox3f& box, const Ray& ray) {
+    float dist = 0.f;
+    for (int a = 0; a < 3; ++a)
+        dist =
+            std::max({dist, std::fabs(box.lo[a] - ray.org[a]), std::fabs(box.hi[a] - ray.org[a])});
+    const Vec3f ad = abs(ray.dir);
+    return dist / std::max({ad.x, ad.y, ad.z});
+}
+
 namespace {
 
 /// Clips [t0, t1] to the padded box, then widens what the box cut by the split margin for
@@ -32,17 +41,6 @@ bool clip_to_box(const Bbox3f& box, const Vec3f& org, const Vec3f& inv, float t_
     if (lo > t0) t0 = std::max(t0, lo - (std::fabs(lo) + t_scale) * kd_margin);
     if (hi < t1) t1 = std::min(t1, hi + (std::fabs(hi) + t_scale) * kd_margin);
     return t0 <= t1;
-}
-
-/// The ray-parameter length of the scene seen from the ray's origin: the largest coordinate
-/// distance from the origin to the box over the largest direction component (see trace_ray.h).
-float scene_t_scale(const Bbox3f& box, const Ray& ray) {
-    float dist = 0.f;
-    for (int a = 0; a < 3; ++a)
-        dist =
-            std::max({dist, std::fabs(box.lo[a] - ray.org[a]), std::fabs(box.hi[a] - ray.org[a])});
-    const Vec3f ad = abs(ray.dir);
-    return dist / std::max({ad.x, ad.y, ad.z});
 }
 
 struct StackEntry {

@@ -48,6 +48,11 @@ inline constexpr float kd_box_pad = 1.0f / 65536.0f;
 /// Bounds padded as traversal uses them.
 Bbox3f padded_bounds(const Bbox3f& box);
 
+/// The ray-parameter length of the scene seen from the ray's origin: the largest coordinate
+/// distance from the origin to `box` over the largest direction component (the scale of the
+/// split margins).
+float scene_t_scale(const Bbox3f& box, const Ray& ray);
+
 /// Closest hit of one ray through the tree.
 Hit trace_ray(const KdTree& tree, std::span<const TriangleVerts> triangles, const Ray& ray);
 

@@ -1,0 +1,226 @@
+// Binned SAH over triangle centroids (16 bins per axis), a binary tree first, then collapsed to
+// four children per node by opening the largest child until four are there.
+#include <algorithm>
+#include <array>
+#include <numeric>
+
+#include "bvh/bvh.h"
+#include "rtt/error.h"
+
+namespace rtt {
+namespace {
+
+constexpr int bins = 16;
+constexpr float traversal_cost = 1.f, intersection_cost = 1.f;
+constexpr int sah_depth = 64;
+
+struct BinaryNode {
+    Bbox3f box;
+    uint32_t left = 0, right = 0;   // children (inner nodes)
+    uint32_t first = 0, count = 0;  // leaf: range of refs (count > 0)
+};
+
+class BinaryBuilder {
+public:
+    explicit BinaryBuilder(std::span<const TriangleVerts> tris) : refs_(tris.size()) {
+        std::iota(refs_.begin(), refs_.end(), 0u);
+        boxes_.resize(tris.size());
+        centers_.resize(tris.size());
+        for (size_t i = 0; i < tris.size(); ++i) {
+            Bbox3f b;
+            b.extend(tris[i].v0);
+            b.extend(tris[i].v1);
+            b.extend(tris[i].v2);
+            boxes_[i] = b;
+            centers_[i] = b.center();
+        }
+    }
+
+    std::vector<BinaryNode> build() {
+        nodes_.reserve(2 * refs_.size() / 2 + 1);
+        nodes_.emplace_back();
+        split(0, 0, uint32_t(refs_.size()), 0);
+        return std::move(nodes_);
+    }
+    const std::vector<uint32_t>& refs() const { return refs_; }
+
+private:
+    Bbox3f bounds(uint32_t first, uint32_t end, Bbox3f* centers) const {
+        Bbox3f b;
+        for (uint32_t i = first; i < end; ++i) {
+            b.extend(boxes_[refs_[i]]);
+            centers->extend(centers_[refs_[i]]);
+        }
+        return b;
+    }
+
+    // Node `index` over refs [first, end): a leaf, or split by the cheapest bin boundary.
+    void split(uint32_t index, uint32_t first, uint32_t end, int depth) {
+        Bbox3f cbox;
+        const Bbox3f box = bounds(first, end, &cbox);
+        nodes_[index].box = box;
+        const uint32_t n = end - first;
+        const auto make_leaf = [&] {
+            nodes_[index].first = first;
+            nodes_[index].count = n;
+        };
+        if (n <= 2) return make_leaf();
+        int best_axis = -1, best_bin = 0;
+        float best_cost = intersection_cost * float(n);
+        // Past sah_depth only halves: the tree (and the traversal's stack) stays shallow
+        // whatever the input (bvh_max_depth).
+        for (int a = 0; a < 3 && depth < sah_depth; ++a) {
+            const float lo = cbox.lo[a], extent = cbox.hi[a] - lo;
+            if (!(extent > 0.f)) continue;
+            const float scale = float(bins) / extent;
+            std::array<Bbox3f, bins> bb{};
+            std::array<uint32_t, bins> bc{};
+            for (uint32_t i = first; i < end; ++i) {
+                const int b = bin_of(centers_[refs_[i]][a], lo, scale);
+                bb[size_t(b)].extend(boxes_[refs_[i]]);
+                ++bc[size_t(b)];
+            }
+            // Sweep: areas and counts to the right of each boundary, then to the left.
+            std::array<float, bins> right_area{};
+            std::array<uint32_t, bins> right_count{};
+            Bbox3f r;
+            uint32_t rc = 0;
+            for (int b = bins - 1; b > 0; --b) {
+                r.extend(bb[size_t(b)]);
+                rc += bc[size_t(b)];
+                right_area[size_t(b)] = r.empty() ? 0.f : r.half_area();
+                right_count[size_t(b)] = rc;
+            }
+            Bbox3f l;
+            uint32_t lc = 0;
+            const float parent = box.half_area();
+            for (int b = 1; b < bins; ++b) {
+                l.extend(bb[size_t(b - 1)]);
+                lc += bc[size_t(b - 1)];
+                if (lc == 0 || right_count[size_t(b)] == 0) continue;
+                const float cost =
+                    traversal_cost + intersection_cost *
+                                         (l.half_area() * float(lc) +
+                                          right_area[size_t(b)] * float(right_count[size_t(b)])) /
+                                         parent;
+                if (cost < best_cost) {
+                    best_cost = cost;
+                    best_axis = a;
+                    best_bin = b;
+                }
+            }
+        }
+        uint32_t mid;
+        if (best_axis >= 0) {
+            const float lo = cbox.lo[best_axis];
+            const float scale = float(bins) / (cbox.hi[best_axis] - lo);
+            mid = uint32_t(std::partition(refs_.begin() + first, refs_.begin() + end,
+                                          [&](uint32_t r) {
+                                              return bin_of(centers_[r][best_axis], lo, scale) <
+                                                     best_bin;
+                                          }) -
+                           refs_.begin());
+        } else if (n <= bvh_leaf_max) {
+            return make_leaf();
+        } else {  // no useful split (centroids coincide) or too deep: halves by centroid order
+            const int a = cbox.diagonal().x >= cbox.diagonal().y
+                              ? (cbox.diagonal().x >= cbox.diagonal().z ? 0 : 2)
+                              : (cbox.diagonal().y >= cbox.diagonal().z ? 1 : 2);
+            mid = first + n / 2;
+            std::nth_element(refs_.begin() + first, refs_.begin() + mid, refs_.begin() + end,
+                             [&](uint32_t x, uint32_t y) {
+                                 return centers_[x][a] < centers_[y][a] ||
+                                        (centers_[x][a] == centers_[y][a] && x < y);
+                             });
+        }
+        const uint32_t left = uint32_t(nodes_.size());
+        nodes_.emplace_back();
+        nodes_.emplace_back();
+        nodes_[index].left = left;
+        nodes_[index].right = left + 1;
+        split(left, first, mid, depth + 1);
+        split(left + 1, mid, end, depth + 1);
+    }
+
+    static int bin_of(float c, float lo, float scale) {
+        return std::clamp(int((c - lo) * scale), 0, bins - 1);
+    }
+
+    std::vector<uint32_t> refs_;
+    std::vector<Bbox3f> boxes_;
+    std::vector<Vec3f> centers_;
+    std::vector<BinaryNode> nodes_;
+};
+
+// Writes the 4-wide node for binary node `b` (an inner node) at `out.nodes[index]`.
+void collapse(const std::vector<BinaryNode>& bin, uint32_t b, uint32_t index, Bvh4& out,
+              int depth) {
+    out.depth = std::max(out.depth, depth);
+    std::array<uint32_t, 4> kids{bin[b].left, bin[b].right};
+    uint32_t n = 2;
+    while (n < 4) {  // open the inner child with the largest surface
+        int open = -1;
+        float area = -1.f;
+        for (uint32_t i = 0; i < n; ++i)
+            if (bin[kids[i]].count == 0 && bin[kids[i]].box.half_area() > area) {
+                area = bin[kids[i]].box.half_area();
+                open = int(i);
+            }
+        if (open < 0) break;
+        const BinaryNode& o = bin[kids[size_t(open)]];
+        kids[size_t(open)] = o.left;
+        kids[n++] = o.right;
+    }
+    Bvh4Node node{};
+    node.count = n;
+    for (uint32_t i = 0; i < 4; ++i)
+        for (int a = 0; a < 3; ++a) {
+            node.lo[a][i] = i < n ? bin[kids[i]].box.lo[a] : pos_inf;
+            node.hi[a][i] = i < n ? bin[kids[i]].box.hi[a] : neg_inf;
+        }
+    std::array<uint32_t, 4> inner{};
+    for (uint32_t i = 0; i < n; ++i) {
+        const BinaryNode& k = bin[kids[i]];
+        if (k.count > 0) {
+            node.child[i] = bvh_leaf_bit | (k.first << 4) | k.count;
+        } else {
+            inner[i] = uint32_t(out.nodes.size());
+            node.child[i] = inner[i];
+            out.nodes.emplace_back();
+        }
+    }
+    out.nodes[index] = node;
+    for (uint32_t i = 0; i < n; ++i)
+        if (bin[kids[i]].count == 0) collapse(bin, kids[i], inner[i], out, depth + 1);
+}
+
+}  // namespace
+
+Bvh4 build_bvh4(std::span<const TriangleVerts> triangles) {
+    if (triangles.size() >= bvh_max_triangles)
+        throw Error("the bvh tracer takes at most 134,217,727 triangles");
+    Bvh4 out;
+    if (triangles.empty()) return out;
+    BinaryBuilder builder(triangles);
+    const std::vector<BinaryNode> bin = builder.build();
+    out.bounds = bin[0].box;
+    out.ids = builder.refs();
+    out.triangles.reserve(triangles.size());
+    for (uint32_t id : out.ids) out.triangles.push_back(triangles[id]);
+    out.nodes.emplace_back();
+    if (bin[0].count > 0) {  // the whole scene is one leaf: a root with one leaf child
+        Bvh4Node& root = out.nodes[0];
+        root.count = 1;
+        for (int a = 0; a < 3; ++a)
+            for (int i = 0; i < 4; ++i) {
+                root.lo[a][i] = i == 0 ? bin[0].box.lo[a] : pos_inf;
+                root.hi[a][i] = i == 0 ? bin[0].box.hi[a] : neg_inf;
+            }
+        root.child[0] = bvh_leaf_bit | bin[0].count;
+        return out;
+    }
+    collapse(bin, 0, 0, out, 0);
+    return out;
+}
+
+}  // namespace rtt
