@@ -14,25 +14,31 @@
 namespace rtt {
 
 /// Four children's boxes, structure of arrays for one SIMD test. An inner child is a node
-/// index; a leaf child has bit 31 set, its first triangle in bits 4-30 and its count in 0-3.
+/// index; a leaf child has bit 31 set, its first block in bits 3-30 and its block count in 0-2.
 struct alignas(64) Bvh4Node {
     float lo[3][4], hi[3][4];
     uint32_t child[4];
     uint32_t count = 0;  ///< Children in use: slots 0..count-1.
 };
 
+/// Four triangles of a leaf, structure of arrays for one SIMD watertight test; unused lanes
+/// have the id invalid_triangle.
+struct alignas(64) BvhTriangles4 {
+    float v0[3][4], v1[3][4], v2[3][4];
+    uint32_t id[4];
+};
+
 inline constexpr uint32_t bvh_leaf_bit = 0x80000000u;
-inline constexpr uint32_t bvh_leaf_max = 15;             ///< Triangles per leaf, at most.
+inline constexpr uint32_t bvh_leaf_max = 16;             ///< Triangles per leaf, at most.
 inline constexpr uint32_t bvh_max_triangles = 1u << 27;  ///< What a leaf child can address.
 /// Depth of the binary tree at most (SAH to depth 64, halves below): 64 + log2(2^27).
 inline constexpr int bvh_max_depth = 64 + 27;
 
 struct Bvh4 {
-    std::vector<Bvh4Node> nodes;           ///< nodes[0] is the root (when not empty).
-    std::vector<TriangleVerts> triangles;  ///< In leaf order.
-    std::vector<uint32_t> ids;             ///< Scene index of each of them (hits, tie-breaks).
-    Bbox3f bounds;                         ///< Of every triangle.
-    int depth = 0;                         ///< Of the deepest leaf below the root.
+    std::vector<Bvh4Node> nodes;        ///< nodes[0] is the root (when not empty).
+    std::vector<BvhTriangles4> blocks;  ///< The leaves' triangles, in leaf order.
+    Bbox3f bounds;                      ///< Of every triangle.
+    int depth = 0;                      ///< Of the deepest leaf below the root.
 };
 
 /// Builds the hierarchy over `triangles` (binned SAH, deterministic). Throws rtt::Error beyond

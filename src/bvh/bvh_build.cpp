@@ -66,7 +66,7 @@ private:
         };
         if (n <= 2) return make_leaf();
         int best_axis = -1, best_bin = 0;
-        float best_cost = intersection_cost * float(n);
+        float best_cost = intersection_cost * blocks_of(n);
         // Past sah_depth only halves: the tree (and the traversal's stack) stays shallow
         // whatever the input (bvh_max_depth).
         for (int a = 0; a < 3 && depth < sah_depth; ++a) {
@@ -98,11 +98,11 @@ private:
                 l.extend(bb[size_t(b - 1)]);
                 lc += bc[size_t(b - 1)];
                 if (lc == 0 || right_count[size_t(b)] == 0) continue;
-                const float cost =
-                    traversal_cost + intersection_cost *
-                                         (l.half_area() * float(lc) +
-                                          right_area[size_t(b)] * float(right_count[size_t(b)])) /
-                                         parent;
+                const float cost = traversal_cost +
+                                   intersection_cost *
+                                       (l.half_area() * blocks_of(lc) +
+                                        right_area[size_t(b)] * blocks_of(right_count[size_t(b)])) /
+                                       parent;
                 if (cost < best_cost) {
                     best_cost = cost;
                     best_axis = a;
@@ -142,6 +142,9 @@ private:
         split(left + 1, mid, end, depth + 1);
     }
 
+    // Leaves test four triangles at once: the SAH counts blocks of four.
+    static float blocks_of(uint32_t n) { return float((n + 3) / 4); }
+
     static int bin_of(float c, float lo, float scale) {
         return std::clamp(int((c - lo) * scale), 0, bins - 1);
     }
@@ -152,8 +155,31 @@ private:
     std::vector<BinaryNode> nodes_;
 };
 
+// The leaf child of refs [first, first + count): its triangles appended as blocks of four.
+uint32_t leaf_child(std::span<const TriangleVerts> tris, const std::vector<uint32_t>& refs,
+                    uint32_t first, uint32_t count, Bvh4& out) {
+    const uint32_t block = uint32_t(out.blocks.size()), blocks = (count + 3) / 4;
+    for (uint32_t b = 0; b < blocks; ++b) {
+        BvhTriangles4 q{};
+        for (uint32_t l = 0; l < 4; ++l) {
+            const uint32_t k = b * 4 + l;
+            const uint32_t id = k < count ? refs[first + k] : invalid_triangle;
+            const TriangleVerts& t = tris[k < count ? id : refs[first]];
+            for (int a = 0; a < 3; ++a) {
+                q.v0[a][l] = t.v0[a];
+                q.v1[a][l] = t.v1[a];
+                q.v2[a][l] = t.v2[a];
+            }
+            q.id[l] = id;
+        }
+        out.blocks.push_back(q);
+    }
+    return bvh_leaf_bit | (block << 3) | blocks;
+}
+
 // Writes the 4-wide node for binary node `b` (an inner node) at `out.nodes[index]`.
-void collapse(const std::vector<BinaryNode>& bin, uint32_t b, uint32_t index, Bvh4& out,
+void collapse(std::span<const TriangleVerts> tris, const std::vector<uint32_t>& refs,
+              const std::vector<BinaryNode>& bin, uint32_t b, uint32_t index, Bvh4& out,
               int depth) {
     out.depth = std::max(out.depth, depth);
     std::array<uint32_t, 4> kids{bin[b].left, bin[b].right};
@@ -182,7 +208,7 @@ void collapse(const std::vector<BinaryNode>& bin, uint32_t b, uint32_t index, Bv
     for (uint32_t i = 0; i < n; ++i) {
         const BinaryNode& k = bin[kids[i]];
         if (k.count > 0) {
-            node.child[i] = bvh_leaf_bit | (k.first << 4) | k.count;
+            node.child[i] = leaf_child(tris, refs, k.first, k.count, out);
         } else {
             inner[i] = uint32_t(out.nodes.size());
             node.child[i] = inner[i];
@@ -191,7 +217,7 @@ void collapse(const std::vector<BinaryNode>& bin, uint32_t b, uint32_t index, Bv
     }
     out.nodes[index] = node;
     for (uint32_t i = 0; i < n; ++i)
-        if (bin[kids[i]].count == 0) collapse(bin, kids[i], inner[i], out, depth + 1);
+        if (bin[kids[i]].count == 0) collapse(tris, refs, bin, kids[i], inner[i], out, depth + 1);
 }
 
 }  // namespace
@@ -204,9 +230,8 @@ Bvh4 build_bvh4(std::span<const TriangleVerts> triangles) {
     BinaryBuilder builder(triangles);
     const std::vector<BinaryNode> bin = builder.build();
     out.bounds = bin[0].box;
-    out.ids = builder.refs();
-    out.triangles.reserve(triangles.size());
-    for (uint32_t id : out.ids) out.triangles.push_back(triangles[id]);
+    const std::vector<uint32_t>& refs = builder.refs();
+    out.blocks.reserve(triangles.size() / 2);
     out.nodes.emplace_back();
     if (bin[0].count > 0) {  // the whole scene is one leaf: a root with one leaf child
         Bvh4Node& root = out.nodes[0];
@@ -216,10 +241,10 @@ Bvh4 build_bvh4(std::span<const TriangleVerts> triangles) {
                 root.lo[a][i] = i == 0 ? bin[0].box.lo[a] : pos_inf;
                 root.hi[a][i] = i == 0 ? bin[0].box.hi[a] : neg_inf;
             }
-        root.child[0] = bvh_leaf_bit | bin[0].count;
+        root.child[0] = leaf_child(triangles, refs, 0, bin[0].count, out);
         return out;
     }
-    collapse(bin, 0, 0, out, 0);
+    collapse(triangles, refs, bin, 0, 0, out, 0);
     return out;
 }
 

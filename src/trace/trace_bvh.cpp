@@ -21,17 +21,21 @@ namespace {
 struct BoxRay {
     vfloat4 org[3], inv[3];
     vfloat4 t_scale;
-    bool flat[3];  ///< dir[a] == 0: a face distance is NaN when the ray lies in the face's plane.
-    bool free[3];  ///< |1 / dir[a]| beyond 2^40: the axis is left unbounded (never culls).
+    int near_hi[3];  ///< The face a ray enters by on each axis: 1 = hi (dir < 0), 0 = lo.
+    bool flat[3];    ///< dir[a] == 0: a face distance is NaN when the ray lies in the face's plane.
+    bool free[3];    ///< |1 / dir[a]| beyond 2^40: the axis is left unbounded (never culls).
+    bool plain;      ///< No axis flat or free.
 
     BoxRay(const Ray& ray, const Bbox3f& bounds) {
         for (int a = 0; a < 3; ++a) {
             const float inv_a = 1.f / ray.dir[a];
             org[a] = vfloat4(ray.org[a]);
             inv[a] = vfloat4(inv_a);
+            near_hi[a] = ray.dir[a] < 0.f;
             flat[a] = ray.dir[a] == 0.f;
             free[a] = !flat[a] && !(std::fabs(inv_a) <= 0x1p40f);
         }
+        plain = !(flat[0] || flat[1] || flat[2] || free[0] || free[1] || free[2]);
         t_scale = vfloat4(std::min(scene_t_scale(bounds, ray), FLT_MAX));
     }
 
@@ -39,19 +43,29 @@ struct BoxRay {
     /// distances (widened) in `near`.
     RTT_FORCEINLINE uint32_t test(const Bvh4Node& n, float tmin, float tmax, vfloat4& near) const {
         vfloat4 tn(neg_inf), tf(pos_inf);
-        for (int a = 0; a < 3; ++a) {
-            if (free[a]) [[unlikely]]
-                continue;
-            const vfloat4 dlo = (vfloat4::load(n.lo[a]) - org[a]) * inv[a];
-            const vfloat4 dhi = (vfloat4::load(n.hi[a]) - org[a]) * inv[a];
-            vfloat4 na = min(dlo, dhi), fa = max(dlo, dhi);
-            if (flat[a]) [[unlikely]] {  // in a face's plane: inside the closed slab
-                const vbool4 in_plane = isnan(dlo) | isnan(dhi);
-                na = select(in_plane, vfloat4(neg_inf), na);
-                fa = select(in_plane, vfloat4(pos_inf), fa);
+        if (plain) [[likely]] {
+            // dir[a] != 0: the entry face gives the smaller distance (a padding slot's +-inf
+            // box gives tn = +inf, and the slot is masked anyway).
+            for (int a = 0; a < 3; ++a) {
+                const float* enter = near_hi[a] ? n.hi[a] : n.lo[a];
+                const float* leave = near_hi[a] ? n.lo[a] : n.hi[a];
+                tn = max(tn, (vfloat4::load(enter) - org[a]) * inv[a]);
+                tf = min(tf, (vfloat4::load(leave) - org[a]) * inv[a]);
             }
-            tn = max(tn, na);
-            tf = min(tf, fa);
+        } else {
+            for (int a = 0; a < 3; ++a) {
+                if (free[a]) continue;
+                const vfloat4 dlo = (vfloat4::load(n.lo[a]) - org[a]) * inv[a];
+                const vfloat4 dhi = (vfloat4::load(n.hi[a]) - org[a]) * inv[a];
+                vfloat4 na = min(dlo, dhi), fa = max(dlo, dhi);
+                if (flat[a]) {  // in a face's plane: inside the closed slab
+                    const vbool4 in_plane = isnan(dlo) | isnan(dhi);
+                    na = select(in_plane, vfloat4(neg_inf), na);
+                    fa = select(in_plane, vfloat4(pos_inf), fa);
+                }
+                tn = max(tn, na);
+                tf = min(tf, fa);
+            }
         }
         // The margin of trace_ray's split distances, from finite magnitudes (an infinite
         // distance comes from a zero direction component and is exact).
@@ -60,6 +74,39 @@ struct BoxRay {
         const vfloat4 far = tf + (min(abs(tf), big) + t_scale) * margin;
         const uint32_t used = (1u << n.count) - 1u;
         return movemask(max(near, vfloat4(tmin)) <= min(far, vfloat4(tmax))) & used;
+    }
+};
+
+/// The watertight test of one ray against four triangles: triangle.h's operations, lane by lane
+/// in the same order, so each lane's t and verdict are the scalar test's bit for bit.
+struct WatertightRay4 {
+    int kx, ky, kz;
+    vfloat4 org[3], sx, sy, sz;
+
+    explicit WatertightRay4(const WatertightRay& r)
+        : kx(r.kx), ky(r.ky), kz(r.kz), sx(r.sx), sy(r.sy), sz(r.sz) {
+        for (int a = 0; a < 3; ++a) org[a] = vfloat4(r.org[a]);
+    }
+
+    /// Lanes that hit in [tmin, tmax], their distances in `t`.
+    RTT_FORCEINLINE uint32_t test(const BvhTriangles4& q, float tmin, float tmax,
+                                  vfloat4& t) const {
+        const auto rel = [&](const float(&v)[3][4], int a) { return vfloat4::load(v[a]) - org[a]; };
+        const vfloat4 akz = rel(q.v0, kz), bkz = rel(q.v1, kz), ckz = rel(q.v2, kz);
+        const vfloat4 ax = rel(q.v0, kx) - sx * akz, ay = rel(q.v0, ky) - sy * akz;
+        const vfloat4 bx = rel(q.v1, kx) - sx * bkz, by = rel(q.v1, ky) - sy * bkz;
+        const vfloat4 cx = rel(q.v2, kx) - sx * ckz, cy = rel(q.v2, ky) - sy * ckz;
+        const vfloat4 u = cx * by - cy * bx;
+        const vfloat4 v = ax * cy - ay * cx;
+        const vfloat4 w = bx * ay - by * ax;
+        const vfloat4 zero(0.f);
+        const vbool4 outside =
+            ((u < zero) | (v < zero) | (w < zero)) & ((u > zero) | (v > zero) | (w > zero));
+        const vfloat4 det = (u + v) + w;
+        const vfloat4 az = sz * akz, bz = sz * bkz, cz = sz * ckz;
+        t = ((u * az + v * bz) + w * cz) / det;
+        const vbool4 in_range = (t >= vfloat4(tmin)) & (t <= vfloat4(tmax));  // false for NaN
+        return movemask(in_range & !outside & !(det == zero));
     }
 };
 
@@ -73,44 +120,76 @@ Hit traverse(const Bvh4& bvh, const Ray& ray) {
     Hit best;
     if (bvh.nodes.empty()) return best;
     WatertightRay wr(ray);
+    const WatertightRay4 wr4(wr);
     const BoxRay br(ray, padded_bounds(bvh.bounds));
     // Each node pushes at most 3 children: 3 per level, bvh_max_depth levels.
     StackEntry stack[3 * bvh_max_depth + 4];
     int top = 0;
-    stack[top++] = {0, ray.tmin};
-    while (top > 0) {
-        const StackEntry e = stack[--top];
-        if (e.near > wr.tmax) continue;  // wr.tmax: the closest hit so far (inclusive)
-        if (e.child & bvh_leaf_bit) {
-            const uint32_t first = (e.child & ~bvh_leaf_bit) >> 4, count = e.child & 15u;
+    uint32_t cur = 0;  // the root
+    for (;;) {
+        if (cur & bvh_leaf_bit) {
+            const uint32_t first = (cur & ~bvh_leaf_bit) >> 3, count = cur & 7u;
             for (uint32_t k = first; k < first + count; ++k) {
-                float t;
-                if (!intersect_watertight(wr, bvh.triangles[k], t)) continue;
-                if constexpr (AnyHit) return Hit{t, bvh.ids[k]};
-                if (closer(t, bvh.ids[k], best)) {
-                    best = {t, bvh.ids[k]};
-                    wr.tmax = t;
+                const BvhTriangles4& q = bvh.blocks[k];
+                vfloat4 t4;
+                uint32_t hits = wr4.test(q, ray.tmin, wr.tmax, t4);
+                if (!hits) continue;
+                alignas(16) float t[4];
+                store(t, t4);
+                for (; hits; hits &= hits - 1) {
+                    const int l = std::countr_zero(hits);
+                    if (q.id[l] == invalid_triangle) continue;
+                    if constexpr (AnyHit) return Hit{t[l], q.id[l]};
+                    if (closer(t[l], q.id[l], best)) {
+                        best = {t[l], q.id[l]};
+                        wr.tmax = t[l];  // inclusive: equal t still reaches the tie-break
+                    }
                 }
             }
-            continue;
+        } else {
+            const Bvh4Node& node = bvh.nodes[cur];
+            vfloat4 near;
+            uint32_t mask = br.test(node, ray.tmin, wr.tmax, near);
+            if (mask) {
+                alignas(16) float d[4];
+                store(d, near);
+                int i = std::countr_zero(mask);
+                mask &= mask - 1;
+                if (!mask) {  // one child: down without the stack
+                    cur = node.child[i];
+                    continue;
+                }
+                int j = std::countr_zero(mask);
+                mask &= mask - 1;
+                if (d[j] < d[i]) std::swap(i, j);
+                if (!mask) {  // two: the far one waits
+                    stack[top++] = {node.child[j], d[j]};
+                    cur = node.child[i];
+                    continue;
+                }
+                // Three or four: the rest sorted far to near on the stack, the nearest next.
+                int order[4] = {j, i}, n = 2;
+                for (; mask; mask &= mask - 1) {
+                    const int c = std::countr_zero(mask);
+                    int k = n++;
+                    for (; k > 0 && d[order[k - 1]] < d[c]; --k) order[k] = order[k - 1];
+                    order[k] = c;
+                }
+                for (int k = 0; k < n - 1; ++k) stack[top++] = {node.child[order[k]], d[order[k]]};
+                cur = node.child[order[n - 1]];
+                continue;
+            }
         }
-        const Bvh4Node& node = bvh.nodes[e.child];
-        vfloat4 near;
-        uint32_t mask = br.test(node, ray.tmin, wr.tmax, near);
-        if (!mask) continue;
-        alignas(16) float d[4];
-        store(d, near);
-        // Push far to near, so the nearest child is popped next.
-        int order[4], n = 0;
-        for (; mask; mask &= mask - 1) {
-            const int i = std::countr_zero(mask);
-            int j = n++;
-            for (; j > 0 && d[order[j - 1]] < d[i]; --j) order[j] = order[j - 1];
-            order[j] = i;
+        // Next: the nearest waiting subtree that may still hold a closer hit.
+        for (;;) {
+            if (top == 0) return best;
+            const StackEntry& e = stack[--top];
+            if (e.near <= wr.tmax) {
+                cur = e.child;
+                break;
+            }
         }
-        for (int j = 0; j < n; ++j) stack[top++] = {node.child[order[j]], d[order[j]]};
     }
-    return best;
 }
 
 class BvhTracer final : public Tracer {
