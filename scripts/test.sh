@@ -15,6 +15,7 @@ stage() {
 
 scripts/install-deps.sh
 stage "format check" scripts/format.sh
+stage "commit subjects" scripts/check-commits.sh
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DRTT_WITH_PYTHON=ON
 stage "release build" cmake --build build -j"$(nproc)"
 stage "release ctest" ctest --test-dir build --output-on-failure -j"$(nproc)"
