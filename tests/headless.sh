@@ -8,8 +8,13 @@
 # and set up an xauth cookie; under ctest -j2 on fresh machines a client sometimes got
 # "Failed to open display :99".) -ac: no access control, so no cookie to get wrong.
 set -u
+# One headless server at a time: the viewer tests run in parallel under ctest -j, and two Xvfb
+# probing display numbers at once once handed a client a number it could not open (sanitizer
+# build, "server already running" in the probing server's log). flock waits for the other.
+exec 9>"${TMPDIR:-/tmp}/rtt-headless.lock"
+flock 9
 work=$(mktemp -d)
-Xvfb -displayfd 3 -screen 0 640x480x24 -nolisten tcp -ac 3>"$work/display" 2>"$work/errors" &
+Xvfb -displayfd 3 -screen 0 640x480x24 -nolisten tcp -ac 3>"$work/display" 2>"$work/errors" 9>&- &
 server=$!
 stop_server() {
   kill "$server" 2>/dev/null
@@ -29,7 +34,7 @@ if [ -z "$display" ]; then
   stop_server
   exit 1
 fi
-DISPLAY=":$display" "$@"
+DISPLAY=":$display" "$@" 9>&-
 rc=$?
 [ "$rc" -eq 0 ] || { echo "headless.sh: Xvfb's messages:"; cat "$work/errors"; } >&2
 stop_server
