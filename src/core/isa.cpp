@@ -11,14 +11,24 @@
 namespace rtt {
 namespace {
 
+// The features of each x86-64 level the compiler may use at that -march, by the names GCC and
+// clang both know (clang 14 has no "x86-64-vN" or "f16c" strings; every CPU with AVX2, FMA and
+// BMI2 has F16C, LZCNT and MOVBE).
 bool cpu_runs(Isa isa) {
+    __builtin_cpu_init();
+    const bool v2 = __builtin_cpu_supports("sse4.2") && __builtin_cpu_supports("popcnt");
+    const bool v3 = v2 && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
+                    __builtin_cpu_supports("bmi") && __builtin_cpu_supports("bmi2");
+    const bool v4 = v3 && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+                    __builtin_cpu_supports("avx512cd") && __builtin_cpu_supports("avx512dq") &&
+                    __builtin_cpu_supports("avx512vl");
     switch (isa) {
         case Isa::sse42:
-            return __builtin_cpu_supports("x86-64-v2");
+            return v2;
         case Isa::avx2:
-            return __builtin_cpu_supports("x86-64-v3");
+            return v3;
         case Isa::avx512:
-            return __builtin_cpu_supports("x86-64-v4");
+            return v4;
     }
     return false;
 }
