@@ -145,8 +145,12 @@ private:
     // Leaves test four triangles at once: the SAH counts blocks of four.
     static float blocks_of(uint32_t n) { return float((n + 3) / 4); }
 
+    // NaN (0 * inf from a denormal extent, inf - inf from huge coordinates) goes to bin 0,
+    // the same in the SAH sweep and the partition.
     static int bin_of(float c, float lo, float scale) {
-        return std::clamp(int((c - lo) * scale), 0, bins - 1);
+        const float x = (c - lo) * scale;
+        if (!(x >= 0.f)) return 0;
+        return x < float(bins - 1) ? int(x) : bins - 1;
     }
 
     std::vector<uint32_t> refs_;
