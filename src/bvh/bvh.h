@@ -37,8 +37,8 @@ inline constexpr int bvh_max_depth = 64 + 27;
 struct Bvh4 {
     std::vector<Bvh4Node> nodes;        ///< nodes[0] is the root (when not empty).
     std::vector<BvhTriangles4> blocks;  ///< The leaves' triangles, in leaf order.
-    Bbox3f bounds;                      ///< Of every triangle.
-    int depth = 0;                      ///< Of the deepest leaf below the root.
+    /// Of every triangle, padded as trace_ray pads the kd-tree's (the rays' split-margin scale).
+    Bbox3f padded_bounds;
 };
 
 /// Builds the hierarchy over `triangles` (binned SAH, deterministic). Throws rtt::Error beyond

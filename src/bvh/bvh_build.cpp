@@ -6,6 +6,7 @@
 
 #include "bvh/bvh.h"
 #include "rtt/error.h"
+#include "trace/trace_ray.h"
 
 namespace rtt {
 namespace {
@@ -183,9 +184,7 @@ uint32_t leaf_child(std::span<const TriangleVerts> tris, const std::vector<uint3
 
 // Writes the 4-wide node for binary node `b` (an inner node) at `out.nodes[index]`.
 void collapse(std::span<const TriangleVerts> tris, const std::vector<uint32_t>& refs,
-              const std::vector<BinaryNode>& bin, uint32_t b, uint32_t index, Bvh4& out,
-              int depth) {
-    out.depth = std::max(out.depth, depth);
+              const std::vector<BinaryNode>& bin, uint32_t b, uint32_t index, Bvh4& out) {
     std::array<uint32_t, 4> kids{bin[b].left, bin[b].right};
     uint32_t n = 2;
     while (n < 4) {  // open the inner child with the largest surface
@@ -221,7 +220,7 @@ void collapse(std::span<const TriangleVerts> tris, const std::vector<uint32_t>& 
     }
     out.nodes[index] = node;
     for (uint32_t i = 0; i < n; ++i)
-        if (bin[kids[i]].count == 0) collapse(tris, refs, bin, kids[i], inner[i], out, depth + 1);
+        if (bin[kids[i]].count == 0) collapse(tris, refs, bin, kids[i], inner[i], out);
 }
 
 }  // namespace
@@ -233,7 +232,7 @@ Bvh4 build_bvh4(std::span<const TriangleVerts> triangles) {
     if (triangles.empty()) return out;
     BinaryBuilder builder(triangles);
     const std::vector<BinaryNode> bin = builder.build();
-    out.bounds = bin[0].box;
+    out.padded_bounds = padded_bounds(bin[0].box);
     const std::vector<uint32_t>& refs = builder.refs();
     out.blocks.reserve(triangles.size() / 2);
     out.nodes.emplace_back();
@@ -248,7 +247,7 @@ Bvh4 build_bvh4(std::span<const TriangleVerts> triangles) {
         root.child[0] = leaf_child(triangles, refs, 0, bin[0].count, out);
         return out;
     }
-    collapse(triangles, refs, bin, 0, 0, out, 0);
+    collapse(triangles, refs, bin, 0, 0, out);
     return out;
 }
 

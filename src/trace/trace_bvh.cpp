@@ -121,7 +121,7 @@ Hit traverse(const Bvh4& bvh, const Ray& ray) {
     if (bvh.nodes.empty()) return best;
     WatertightRay wr(ray);
     const WatertightRay4 wr4(wr);
-    const BoxRay br(ray, padded_bounds(bvh.bounds));
+    const BoxRay br(ray, bvh.padded_bounds);
     // Each node pushes at most 3 children: 3 per level, bvh_max_depth levels.
     StackEntry stack[3 * bvh_max_depth + 4];
     int top = 0;
