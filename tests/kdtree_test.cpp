@@ -250,12 +250,12 @@ bool hits_degenerate_off_itself(const Tris& tris, const Ray& r) {
     return false;
 }
 
-/// Closest hit and any-hit of the reference tracer, and of the BVH's, against brute force, ray
-/// by ray.
+/// Closest hit and any-hit of the reference tracer, and of the BVH's (this ISA's width), against
+/// brute force, ray by ray.
 Mismatches compare_with_brute_force(const KdTree& tree, const Tris& tris,
                                     const std::vector<Ray>& rays) {
     Mismatches m;
-    const Bvh4 bvh = build_bvh4(tris);
+    const Bvh<bvh_width> bvh = build_bvh<bvh_width>(tris);
     for (const Ray& r : rays) {
         const Hit expect = trace_brute_force(tris, r);
         const Hit got = trace_ray(tree, tris, r);
@@ -883,6 +883,25 @@ TEST(KdTree, BuildDoesNotDependOnThreadCount) {
     EXPECT_EQ(std::memcmp(one.nodes.data(), many.nodes.data(), one.nodes.size() * sizeof(KdNode)),
               0);
     EXPECT_EQ(one.leaf_triangles, many.leaf_triangles);
+}
+
+TEST(Bvh, BuildDoesNotDependOnThreadCount) {
+    // Enough triangles for the build's parallel binning and subtrees.
+    const Tris tris = random_soup(60000, 12, 0.2f);
+    Bvh<bvh_width> one;
+    {
+        tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+        one = build_bvh<bvh_width>(tris);
+    }
+    const Bvh<bvh_width> many = build_bvh<bvh_width>(tris);
+    ASSERT_EQ(one.nodes.size(), many.nodes.size());
+    ASSERT_EQ(one.blocks.size(), many.blocks.size());
+    EXPECT_EQ(
+        std::memcmp(one.nodes.data(), many.nodes.data(), one.nodes.size() * sizeof(one.nodes[0])),
+        0);
+    EXPECT_EQ(std::memcmp(one.blocks.data(), many.blocks.data(),
+                          one.blocks.size() * sizeof(BvhTriangles4)),
+              0);
 }
 
 TEST(KdTree, DepthLimitsHold) {

@@ -1,7 +1,8 @@
-// A 4-wide bounding volume hierarchy for arbitrary rays (the "bvh" tracer, trace_bvh.cpp):
-// binned-SAH binary tree collapsed to four children per node. Each triangle is listed once, in
-// one leaf; node boxes are the exact bounds of what is under them. docs/design.md, "The BVH for
-// arbitrary rays", says why the traversal's box margins keep it exact.
+// Bounding volume hierarchies for arbitrary rays (the "bvh" tracer, trace_bvh.cpp): a binned-SAH
+// binary tree collapsed to W children per node (4 for SSE kernels, 8 for AVX2 and AVX-512).
+// Each triangle is listed once, in one leaf; node boxes are the exact bounds of what is under
+// them. docs/design.md, "The BVH for arbitrary rays", says why the traversal's box margins keep
+// it exact.
 #pragma once
 
 #include <cstdint>
@@ -13,11 +14,12 @@
 
 namespace rtt {
 
-/// Four children's boxes, structure of arrays for one SIMD test. An inner child is a node
-/// index; a leaf child has bit 31 set, its first block in bits 3-30 and its block count in 0-2.
-struct alignas(64) Bvh4Node {
-    float lo[3][4], hi[3][4];
-    uint32_t child[4];
+/// W children's boxes, structure of arrays for one SIMD test. An inner child is a node index; a
+/// leaf child has bit 31 set, its first block in bits 3-30 and its block count in 0-2.
+template <int W>
+struct alignas(64) BvhNode {
+    float lo[3][W], hi[3][W];
+    uint32_t child[W];
     uint32_t count = 0;  ///< Children in use: slots 0..count-1.
 };
 
@@ -34,15 +36,19 @@ inline constexpr uint32_t bvh_max_triangles = 1u << 27;  ///< What a leaf child 
 /// Depth of the binary tree at most (SAH to depth 64, halves below): 64 + log2(2^27).
 inline constexpr int bvh_max_depth = 64 + 27;
 
-struct Bvh4 {
-    std::vector<Bvh4Node> nodes;        ///< nodes[0] is the root (when not empty).
+template <int W>
+struct Bvh {
+    std::vector<BvhNode<W>> nodes;      ///< nodes[0] is the root (when not empty).
     std::vector<BvhTriangles4> blocks;  ///< The leaves' triangles, in leaf order.
     /// Of every triangle, padded as trace_ray pads the kd-tree's (the rays' split-margin scale).
     Bbox3f padded_bounds;
 };
+using Bvh4 = Bvh<4>;
+using Bvh8 = Bvh<8>;
 
-/// Builds the hierarchy over `triangles` (binned SAH, deterministic). Throws rtt::Error beyond
-/// bvh_max_triangles.
-Bvh4 build_bvh4(std::span<const TriangleVerts> triangles);
+/// Builds the hierarchy over `triangles` (binned SAH) on the calling thread's oneTBB arena; the
+/// result does not depend on the number of threads. Throws rtt::Error beyond bvh_max_triangles.
+template <int W>
+Bvh<W> build_bvh(std::span<const TriangleVerts> triangles);
 
 }  // namespace rtt

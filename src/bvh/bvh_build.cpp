@@ -1,5 +1,12 @@
 // Binned SAH over triangle centroids (16 bins per axis), a binary tree first, then collapsed to
-// four children per node by opening the largest child until four are there.
+// W children per node by opening the largest child until W are there. Large nodes bin and
+// split in parallel; every subtree owns a fixed range of binary-node slots (BinaryBuilder::split)
+// and of references, so tasks share nothing and the tree is the same for any number of threads.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+#include <tbb/parallel_reduce.h>
+
 #include <algorithm>
 #include <array>
 #include <numeric>
@@ -14,6 +21,8 @@ namespace {
 constexpr int bins = 16;
 constexpr float traversal_cost = 1.f, intersection_cost = 1.f;
 constexpr int sah_depth = 64;
+/// Below this many references a node's work stays on one thread.
+constexpr uint32_t parallel_refs = 16384;
 
 struct BinaryNode {
     Bbox3f box;
@@ -21,44 +30,115 @@ struct BinaryNode {
     uint32_t first = 0, count = 0;  // leaf: range of refs (count > 0)
 };
 
+/// Per axis, the bounds and counts of the references whose centroid falls in each bin.
+struct Bins {
+    std::array<std::array<Bbox3f, bins>, 3> box{};
+    std::array<std::array<uint32_t, bins>, 3> count{};
+
+    void merge(const Bins& o) {
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < bins; ++b) {
+                box[size_t(a)][size_t(b)].extend(o.box[size_t(a)][size_t(b)]);
+                count[size_t(a)][size_t(b)] += o.count[size_t(a)][size_t(b)];
+            }
+    }
+};
+
+/// f(lo, hi) over [first, end) on one thread, or in parallel with `merge` when large. Every
+/// reduction used here is exact (min, max, integer sums), so the result is the serial one.
+template <typename T, typename F, typename M>
+T reduce_range(uint32_t first, uint32_t end, F&& f, M&& merge) {
+    if (end - first < parallel_refs) return f(first, end);
+    return tbb::parallel_reduce(
+        tbb::blocked_range<uint32_t>(first, end, parallel_refs / 4), T{},
+        [&](const tbb::blocked_range<uint32_t>& r, T acc) {
+            merge(acc, f(r.begin(), r.end()));
+            return acc;
+        },
+        [&](T a, const T& b) {
+            merge(a, b);
+            return a;
+        });
+}
+
 class BinaryBuilder {
 public:
-    explicit BinaryBuilder(std::span<const TriangleVerts> tris) : refs_(tris.size()) {
+    explicit BinaryBuilder(std::span<const TriangleVerts> tris)
+        : refs_(tris.size()), boxes_(tris.size()), centers_(tris.size()) {
         std::iota(refs_.begin(), refs_.end(), 0u);
-        boxes_.resize(tris.size());
-        centers_.resize(tris.size());
-        for (size_t i = 0; i < tris.size(); ++i) {
-            Bbox3f b;
-            b.extend(tris[i].v0);
-            b.extend(tris[i].v1);
-            b.extend(tris[i].v2);
-            boxes_[i] = b;
-            centers_[i] = b.center();
-        }
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, tris.size(), 4096),
+                          [&](const tbb::blocked_range<size_t>& r) {
+                              for (size_t i = r.begin(); i < r.end(); ++i) {
+                                  Bbox3f box;
+                                  box.extend(tris[i].v0);
+                                  box.extend(tris[i].v1);
+                                  box.extend(tris[i].v2);
+                                  boxes_[i] = box;
+                                  centers_[i] = box.center();
+                              }
+                          });
     }
 
+    /// The binary tree; node 0 is the root. Slots of refs that ended in a leaf early stay unused.
     std::vector<BinaryNode> build() {
-        nodes_.reserve(2 * refs_.size() / 2 + 1);
-        nodes_.emplace_back();
+        nodes_.resize(2 * refs_.size() - 1);
         split(0, 0, uint32_t(refs_.size()), 0);
         return std::move(nodes_);
     }
     const std::vector<uint32_t>& refs() const { return refs_; }
 
 private:
-    Bbox3f bounds(uint32_t first, uint32_t end, Bbox3f* centers) const {
-        Bbox3f b;
-        for (uint32_t i = first; i < end; ++i) {
-            b.extend(boxes_[refs_[i]]);
-            centers->extend(centers_[refs_[i]]);
-        }
-        return b;
+    struct Extent {
+        Bbox3f box, centers;
+    };
+
+    Extent extent(uint32_t first, uint32_t end) const {
+        return reduce_range<Extent>(
+            first, end,
+            [&](uint32_t lo, uint32_t hi) {
+                Extent e;
+                for (uint32_t i = lo; i < hi; ++i) {
+                    e.box.extend(boxes_[refs_[i]]);
+                    e.centers.extend(centers_[refs_[i]]);
+                }
+                return e;
+            },
+            [](Extent& a, const Extent& b) {
+                a.box.extend(b.box);
+                a.centers.extend(b.centers);
+            });
     }
 
-    // Node `index` over refs [first, end): a leaf, or split by the cheapest bin boundary.
+    Bins bin_all(uint32_t first, uint32_t end, const Bbox3f& cbox) const {
+        float lo[3], scale[3];
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = cbox.lo[a];
+            scale[a] = float(bins) / (cbox.hi[a] - lo[a]);
+        }
+        return reduce_range<Bins>(
+            first, end,
+            [&](uint32_t from, uint32_t to) {
+                Bins out;
+                for (uint32_t i = from; i < to; ++i) {
+                    const uint32_t r = refs_[i];
+                    for (int a = 0; a < 3; ++a) {
+                        const size_t b = size_t(bin_of(centers_[r][a], lo[a], scale[a]));
+                        out.box[size_t(a)][b].extend(boxes_[r]);
+                        ++out.count[size_t(a)][b];
+                    }
+                }
+                return out;
+            },
+            [](Bins& x, const Bins& y) { x.merge(y); });
+    }
+
+    // Node `index` over refs [first, end): a leaf, or split by the cheapest bin boundary. Its
+    // subtree owns the slots [index, index + 2 (end - first) - 1): the left child's subtree
+    // starts at index + 1, the right one's at index + 2 (mid - first).
     void split(uint32_t index, uint32_t first, uint32_t end, int depth) {
-        Bbox3f cbox;
-        const Bbox3f box = bounds(first, end, &cbox);
+        const Extent ext = extent(first, end);
+        const Bbox3f& box = ext.box;
+        const Bbox3f& cbox = ext.centers;
         nodes_[index].box = box;
         const uint32_t n = end - first;
         const auto make_leaf = [&] {
@@ -70,44 +150,41 @@ private:
         float best_cost = intersection_cost * blocks_of(n);
         // Past sah_depth only halves: the tree (and the traversal's stack) stays shallow
         // whatever the input (bvh_max_depth).
-        for (int a = 0; a < 3 && depth < sah_depth; ++a) {
-            const float lo = cbox.lo[a], extent = cbox.hi[a] - lo;
-            if (!(extent > 0.f)) continue;
-            const float scale = float(bins) / extent;
-            std::array<Bbox3f, bins> bb{};
-            std::array<uint32_t, bins> bc{};
-            for (uint32_t i = first; i < end; ++i) {
-                const int b = bin_of(centers_[refs_[i]][a], lo, scale);
-                bb[size_t(b)].extend(boxes_[refs_[i]]);
-                ++bc[size_t(b)];
-            }
-            // Sweep: areas and counts to the right of each boundary, then to the left.
-            std::array<float, bins> right_area{};
-            std::array<uint32_t, bins> right_count{};
-            Bbox3f r;
-            uint32_t rc = 0;
-            for (int b = bins - 1; b > 0; --b) {
-                r.extend(bb[size_t(b)]);
-                rc += bc[size_t(b)];
-                right_area[size_t(b)] = r.empty() ? 0.f : r.half_area();
-                right_count[size_t(b)] = rc;
-            }
-            Bbox3f l;
-            uint32_t lc = 0;
-            const float parent = box.half_area();
-            for (int b = 1; b < bins; ++b) {
-                l.extend(bb[size_t(b - 1)]);
-                lc += bc[size_t(b - 1)];
-                if (lc == 0 || right_count[size_t(b)] == 0) continue;
-                const float cost = traversal_cost +
-                                   intersection_cost *
-                                       (l.half_area() * blocks_of(lc) +
-                                        right_area[size_t(b)] * blocks_of(right_count[size_t(b)])) /
-                                       parent;
-                if (cost < best_cost) {
-                    best_cost = cost;
-                    best_axis = a;
-                    best_bin = b;
+        if (depth < sah_depth) {
+            const Bins all = bin_all(first, end, cbox);
+            for (int a = 0; a < 3; ++a) {
+                if (!(cbox.hi[a] - cbox.lo[a] > 0.f)) continue;
+                const auto& bb = all.box[size_t(a)];
+                const auto& bc = all.count[size_t(a)];
+                // Sweep: areas and counts to the right of each boundary, then to the left.
+                std::array<float, bins> right_area{};
+                std::array<uint32_t, bins> right_count{};
+                Bbox3f r;
+                uint32_t rc = 0;
+                for (int b = bins - 1; b > 0; --b) {
+                    r.extend(bb[size_t(b)]);
+                    rc += bc[size_t(b)];
+                    right_area[size_t(b)] = r.empty() ? 0.f : r.half_area();
+                    right_count[size_t(b)] = rc;
+                }
+                Bbox3f l;
+                uint32_t lc = 0;
+                const float parent = box.half_area();
+                for (int b = 1; b < bins; ++b) {
+                    l.extend(bb[size_t(b - 1)]);
+                    lc += bc[size_t(b - 1)];
+                    if (lc == 0 || right_count[size_t(b)] == 0) continue;
+                    const float cost =
+                        traversal_cost +
+                        intersection_cost *
+                            (l.half_area() * blocks_of(lc) +
+                             right_area[size_t(b)] * blocks_of(right_count[size_t(b)])) /
+                            parent;
+                    if (cost < best_cost) {
+                        best_cost = cost;
+                        best_axis = a;
+                        best_bin = b;
+                    }
                 }
             }
         }
@@ -134,13 +211,16 @@ private:
                                         (centers_[x][a] == centers_[y][a] && x < y);
                              });
         }
-        const uint32_t left = uint32_t(nodes_.size());
-        nodes_.emplace_back();
-        nodes_.emplace_back();
+        const uint32_t left = index + 1, right = index + 2 * (mid - first);
         nodes_[index].left = left;
-        nodes_[index].right = left + 1;
-        split(left, first, mid, depth + 1);
-        split(left + 1, mid, end, depth + 1);
+        nodes_[index].right = right;
+        if (n >= parallel_refs)
+            tbb::parallel_invoke([&] { split(left, first, mid, depth + 1); },
+                                 [&] { split(right, mid, end, depth + 1); });
+        else {
+            split(left, first, mid, depth + 1);
+            split(right, mid, end, depth + 1);
+        }
     }
 
     // Leaves test four triangles at once: the SAH counts blocks of four.
@@ -161,8 +241,9 @@ private:
 };
 
 // The leaf child of refs [first, first + count): its triangles appended as blocks of four.
+template <int W>
 uint32_t leaf_child(std::span<const TriangleVerts> tris, const std::vector<uint32_t>& refs,
-                    uint32_t first, uint32_t count, Bvh4& out) {
+                    uint32_t first, uint32_t count, Bvh<W>& out) {
     const uint32_t block = uint32_t(out.blocks.size()), blocks = (count + 3) / 4;
     for (uint32_t b = 0; b < blocks; ++b) {
         BvhTriangles4 q{};
@@ -182,12 +263,13 @@ uint32_t leaf_child(std::span<const TriangleVerts> tris, const std::vector<uint3
     return bvh_leaf_bit | (block << 3) | blocks;
 }
 
-// Writes the 4-wide node for binary node `b` (an inner node) at `out.nodes[index]`.
+// Writes the W-wide node for binary node `b` (an inner node) at `out.nodes[index]`.
+template <int W>
 void collapse(std::span<const TriangleVerts> tris, const std::vector<uint32_t>& refs,
-              const std::vector<BinaryNode>& bin, uint32_t b, uint32_t index, Bvh4& out) {
-    std::array<uint32_t, 4> kids{bin[b].left, bin[b].right};
+              const std::vector<BinaryNode>& bin, uint32_t b, uint32_t index, Bvh<W>& out) {
+    std::array<uint32_t, W> kids{bin[b].left, bin[b].right};
     uint32_t n = 2;
-    while (n < 4) {  // open the inner child with the largest surface
+    while (n < W) {  // open the inner child with the largest surface
         int open = -1;
         float area = -1.f;
         for (uint32_t i = 0; i < n; ++i)
@@ -200,14 +282,14 @@ void collapse(std::span<const TriangleVerts> tris, const std::vector<uint32_t>& 
         kids[size_t(open)] = o.left;
         kids[n++] = o.right;
     }
-    Bvh4Node node{};
+    BvhNode<W> node{};
     node.count = n;
-    for (uint32_t i = 0; i < 4; ++i)
+    for (uint32_t i = 0; i < W; ++i)
         for (int a = 0; a < 3; ++a) {
             node.lo[a][i] = i < n ? bin[kids[i]].box.lo[a] : pos_inf;
             node.hi[a][i] = i < n ? bin[kids[i]].box.hi[a] : neg_inf;
         }
-    std::array<uint32_t, 4> inner{};
+    std::array<uint32_t, W> inner{};
     for (uint32_t i = 0; i < n; ++i) {
         const BinaryNode& k = bin[kids[i]];
         if (k.count > 0) {
@@ -225,10 +307,11 @@ void collapse(std::span<const TriangleVerts> tris, const std::vector<uint32_t>& 
 
 }  // namespace
 
-Bvh4 build_bvh4(std::span<const TriangleVerts> triangles) {
+template <int W>
+Bvh<W> build_bvh(std::span<const TriangleVerts> triangles) {
     if (triangles.size() >= bvh_max_triangles)
         throw Error("the bvh tracer takes at most 134,217,727 triangles");
-    Bvh4 out;
+    Bvh<W> out;
     if (triangles.empty()) return out;
     BinaryBuilder builder(triangles);
     const std::vector<BinaryNode> bin = builder.build();
@@ -237,10 +320,10 @@ Bvh4 build_bvh4(std::span<const TriangleVerts> triangles) {
     out.blocks.reserve(triangles.size() / 2);
     out.nodes.emplace_back();
     if (bin[0].count > 0) {  // the whole scene is one leaf: a root with one leaf child
-        Bvh4Node& root = out.nodes[0];
+        BvhNode<W>& root = out.nodes[0];
         root.count = 1;
         for (int a = 0; a < 3; ++a)
-            for (int i = 0; i < 4; ++i) {
+            for (int i = 0; i < W; ++i) {
                 root.lo[a][i] = i == 0 ? bin[0].box.lo[a] : pos_inf;
                 root.hi[a][i] = i == 0 ? bin[0].box.hi[a] : neg_inf;
             }
@@ -250,5 +333,8 @@ Bvh4 build_bvh4(std::span<const TriangleVerts> triangles) {
     collapse(triangles, refs, bin, 0, 0, out);
     return out;
 }
+
+template Bvh<4> build_bvh<4>(std::span<const TriangleVerts>);
+template Bvh<8> build_bvh<8>(std::span<const TriangleVerts>);
 
 }  // namespace rtt

@@ -12,8 +12,6 @@ namespace rtt {
 
 std::unique_ptr<Tracer> make_brute_force_tracer(const Scene& scene, const KdTree& tree);
 std::unique_ptr<Tracer> make_ray_tracer(const Scene& scene, const KdTree& tree);
-/// Single rays through a 4-wide BVH of its own (trace_bvh.cpp); the kd-tree is not used.
-std::unique_ptr<Tracer> make_bvh_tracer(const Scene& scene, const KdTree& tree);
 #ifdef RTT_HAVE_EMBREE
 /// Embree 3 (trace_embree.cpp): how its tracers hand it rays. They build their own BVH.
 enum class EmbreeMode {

@@ -23,7 +23,11 @@ std::unique_ptr<Tracer> make_packet_tracer(const Scene& scene, const KdTree& tre
 /// other tiles and shadows as the widest packets (trace_packet.cpp).
 std::unique_ptr<Tracer> make_frustum_tracer(const Scene& scene, const KdTree& tree);
 
-/// The tracer `kind` ("packet", "packet8", "packet16", "frustum" or "rtt") of this ISA's
+/// Single rays through a BVH of its own, bvh_width<> children per node (trace_bvh.h); the
+/// kd-tree is not used.
+std::unique_ptr<Tracer> make_bvh_tracer(const Scene& scene);
+
+/// The tracer `kind` ("bvh", "packet", "packet8", "packet16", "frustum" or "rtt") of this ISA's
 /// kernels, or nullptr when this ISA has no such kind. `options` are RTT's (validated).
 std::unique_ptr<Tracer> make_kernel_tracer(std::string_view kind, const Scene& scene,
                                            const KdTree& tree, const RttOptions& options);

@@ -72,7 +72,7 @@ const std::vector<TracerEntry>& registry() {
     static const std::vector<TracerEntry> entries = {
         {"ray", make_ray_tracer},
         {"brute", make_brute_force_tracer},
-        {"bvh", make_bvh_tracer},
+        {"bvh", kernels("bvh")},
         {"packet", kernels("packet")},
         {"rtt", kernels("rtt")},
         {"rtt-paper",

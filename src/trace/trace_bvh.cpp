@@ -1,26 +1,29 @@
-// The "bvh" tracer: single rays through the 4-wide BVH (bvh/bvh.h), children tested four at a
-// time, nearest first. Exact: a node is skipped only when the ray's interval in its box, widened
-// by the kd-tree's split margin, starts after the closest hit so far (docs/design.md, "The BVH
-// for arbitrary rays"); triangles are tested with the one watertight test and ties go to the
-// smaller index, so hits equal trace_ray's bit for bit.
+// The "bvh" tracer: single rays through a W-wide BVH (bvh/bvh.h), a node's children tested in
+// one W-lane vector, nearest first. Exact: a node is skipped only when the ray's interval in its
+// box, widened by the kd-tree's split margin, starts after the closest hit so far (docs/design.md,
+// "The BVH for arbitrary rays"); triangles are tested with the one watertight test and ties go to
+// the smaller index, so hits equal trace_ray's bit for bit.
 #include "trace/trace_bvh.h"
 
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
 
-#include "simd/vfloat4.h"
-#include "trace/factories.h"
+#include "simd/simd.h"
+#include "trace/kernels.h"
 #include "trace/trace_ray.h"
 #include "trace/traced_tile.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 namespace {
 
-/// What the node test needs of a ray, broadcast to four lanes.
+/// What the node test needs of a ray, broadcast to W lanes.
+template <int W>
 struct BoxRay {
-    vfloat4 org[3], inv[3];
-    vfloat4 t_scale;
+    using vf = vfloat<W>;
+    vf org[3], inv[3];
+    vf t_scale;
     int near_hi[3];  ///< The face a ray enters by on each axis: 1 = hi (dir < 0), 0 = lo.
     bool flat[3];    ///< dir[a] == 0: a face distance is NaN when the ray lies in the face's plane.
     bool free[3];    ///< |1 / dir[a]| beyond 2^40: the axis is left unbounded (never culls).
@@ -29,39 +32,39 @@ struct BoxRay {
     BoxRay(const Ray& ray, const Bbox3f& bounds) {
         for (int a = 0; a < 3; ++a) {
             const float inv_a = 1.f / ray.dir[a];
-            org[a] = vfloat4(ray.org[a]);
-            inv[a] = vfloat4(inv_a);
+            org[a] = vf(ray.org[a]);
+            inv[a] = vf(inv_a);
             near_hi[a] = ray.dir[a] < 0.f;
             flat[a] = ray.dir[a] == 0.f;
             free[a] = !flat[a] && !(std::fabs(inv_a) <= 0x1p40f);
         }
         plain = !(flat[0] || flat[1] || flat[2] || free[0] || free[1] || free[2]);
-        t_scale = vfloat4(std::min(scene_t_scale(bounds, ray), FLT_MAX));
+        t_scale = vf(std::min(scene_t_scale(bounds, ray), FLT_MAX));
     }
 
     /// Lanes of the node's children whose box the ray may meet in [tmin, tmax]; their entry
     /// distances (widened) in `near`.
-    RTT_FORCEINLINE uint32_t test(const Bvh4Node& n, float tmin, float tmax, vfloat4& near) const {
-        vfloat4 tn(neg_inf), tf(pos_inf);
+    RTT_FORCEINLINE uint32_t test(const BvhNode<W>& n, float tmin, float tmax, vf& near) const {
+        vf tn(neg_inf), tf(pos_inf);
         if (plain) [[likely]] {
             // dir[a] != 0: the entry face gives the smaller distance (a padding slot's +-inf
             // box gives tn = +inf, and the slot is masked anyway).
             for (int a = 0; a < 3; ++a) {
                 const float* enter = near_hi[a] ? n.hi[a] : n.lo[a];
                 const float* leave = near_hi[a] ? n.lo[a] : n.hi[a];
-                tn = max(tn, (vfloat4::load(enter) - org[a]) * inv[a]);
-                tf = min(tf, (vfloat4::load(leave) - org[a]) * inv[a]);
+                tn = max(tn, (vf::load(enter) - org[a]) * inv[a]);
+                tf = min(tf, (vf::load(leave) - org[a]) * inv[a]);
             }
         } else {
             for (int a = 0; a < 3; ++a) {
                 if (free[a]) continue;
-                const vfloat4 dlo = (vfloat4::load(n.lo[a]) - org[a]) * inv[a];
-                const vfloat4 dhi = (vfloat4::load(n.hi[a]) - org[a]) * inv[a];
-                vfloat4 na = min(dlo, dhi), fa = max(dlo, dhi);
+                const vf dlo = (vf::load(n.lo[a]) - org[a]) * inv[a];
+                const vf dhi = (vf::load(n.hi[a]) - org[a]) * inv[a];
+                vf na = min(dlo, dhi), fa = max(dlo, dhi);
                 if (flat[a]) {  // in a face's plane: inside the closed slab
-                    const vbool4 in_plane = isnan(dlo) | isnan(dhi);
-                    na = select(in_plane, vfloat4(neg_inf), na);
-                    fa = select(in_plane, vfloat4(pos_inf), fa);
+                    const auto in_plane = isnan(dlo) | isnan(dhi);
+                    na = select(in_plane, vf(neg_inf), na);
+                    fa = select(in_plane, vf(pos_inf), fa);
                 }
                 tn = max(tn, na);
                 tf = min(tf, fa);
@@ -69,11 +72,11 @@ struct BoxRay {
         }
         // The margin of trace_ray's split distances, from finite magnitudes (an infinite
         // distance comes from a zero direction component and is exact).
-        const vfloat4 big(FLT_MAX), margin(kd_margin);
+        const vf big(FLT_MAX), margin(kd_margin);
         near = tn - (min(abs(tn), big) + t_scale) * margin;
-        const vfloat4 far = tf + (min(abs(tf), big) + t_scale) * margin;
+        const vf far = tf + (min(abs(tf), big) + t_scale) * margin;
         const uint32_t used = (1u << n.count) - 1u;
-        return movemask(max(near, vfloat4(tmin)) <= min(far, vfloat4(tmax))) & used;
+        return movemask(max(near, vf(tmin)) <= min(far, vf(tmax))) & used;
     }
 };
 
@@ -115,15 +118,15 @@ struct StackEntry {
     float near;
 };
 
-template <bool AnyHit>
-Hit traverse(const Bvh4& bvh, const Ray& ray) {
+template <int W, bool AnyHit>
+Hit traverse(const Bvh<W>& bvh, const Ray& ray) {
     Hit best;
     if (bvh.nodes.empty()) return best;
     WatertightRay wr(ray);
     const WatertightRay4 wr4(wr);
-    const BoxRay br(ray, bvh.padded_bounds);
-    // Each node pushes at most 3 children: 3 per level, bvh_max_depth levels.
-    StackEntry stack[3 * bvh_max_depth + 4];
+    const BoxRay<W> br(ray, bvh.padded_bounds);
+    // Each node pushes at most W - 1 children: W - 1 per level, bvh_max_depth levels.
+    StackEntry stack[(W - 1) * bvh_max_depth + W];
     int top = 0;
     uint32_t cur = 0;  // the root
     for (;;) {
@@ -147,11 +150,11 @@ Hit traverse(const Bvh4& bvh, const Ray& ray) {
                 }
             }
         } else {
-            const Bvh4Node& node = bvh.nodes[cur];
-            vfloat4 near;
+            const BvhNode<W>& node = bvh.nodes[cur];
+            vfloat<W> near;
             uint32_t mask = br.test(node, ray.tmin, wr.tmax, near);
             if (mask) {
-                alignas(16) float d[4];
+                alignas(4 * W) float d[W];
                 store(d, near);
                 int i = std::countr_zero(mask);
                 mask &= mask - 1;
@@ -167,8 +170,8 @@ Hit traverse(const Bvh4& bvh, const Ray& ray) {
                     cur = node.child[i];
                     continue;
                 }
-                // Three or four: the rest sorted far to near on the stack, the nearest next.
-                int order[4] = {j, i}, n = 2;
+                // Three or more: the rest sorted far to near on the stack, the nearest next.
+                int order[W] = {j, i}, n = 2;
                 for (; mask; mask &= mask - 1) {
                     const int c = std::countr_zero(mask);
                     int k = n++;
@@ -192,39 +195,50 @@ Hit traverse(const Bvh4& bvh, const Ray& ray) {
     }
 }
 
+template <int W>
 class BvhTracer final : public Tracer {
 public:
-    explicit BvhTracer(const Scene& scene) : bvh_(build_bvh4(gather_triangles(scene))) {}
+    explicit BvhTracer(const Scene& scene) : bvh_(build_bvh<W>(gather_triangles(scene))) {}
     std::string_view name() const override { return "bvh"; }
 
     void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
                    std::span<SampleAnswer> answers) const override {
         intersect_one_by_one(tile, hits, stats, answers,
-                             [&](const Ray& ray) { return traverse<false>(bvh_, ray); });
+                             [&](const Ray& ray) { return traverse<W, false>(bvh_, ray); });
     }
 
     void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
                   std::span<SampleAnswer> answers) const override {
         occluded_one_by_one(tile, visible, stats, answers,
-                            [&](const Ray& ray) { return traverse<true>(bvh_, ray).valid(); });
+                            [&](const Ray& ray) { return traverse<W, true>(bvh_, ray).valid(); });
     }
 
 private:
-    Bvh4 bvh_;
+    Bvh<W> bvh_;
 };
 
 }  // namespace
 
-Hit trace_bvh(const Bvh4& bvh, const Ray& ray) {
-    return traverse<false>(bvh, ray);
+template <int W>
+Hit trace_bvh(const Bvh<W>& bvh, const Ray& ray) {
+    return traverse<W, false>(bvh, ray);
 }
 
-bool occluded_bvh(const Bvh4& bvh, const Ray& ray) {
-    return traverse<true>(bvh, ray).valid();
+template <int W>
+bool occluded_bvh(const Bvh<W>& bvh, const Ray& ray) {
+    return traverse<W, true>(bvh, ray).valid();
 }
 
-std::unique_ptr<Tracer> make_bvh_tracer(const Scene& scene, const KdTree&) {
-    return std::make_unique<BvhTracer>(scene);
+template Hit trace_bvh<4>(const Bvh<4>&, const Ray&);
+template bool occluded_bvh<4>(const Bvh<4>&, const Ray&);
+#ifdef RTT_HAVE_SIMD8
+template Hit trace_bvh<8>(const Bvh<8>&, const Ray&);
+template bool occluded_bvh<8>(const Bvh<8>&, const Ray&);
+#endif
+
+std::unique_ptr<Tracer> make_bvh_tracer(const Scene& scene) {
+    return std::make_unique<BvhTracer<bvh_width>>(scene);
 }
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt

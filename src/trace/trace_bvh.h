@@ -1,14 +1,24 @@
-// Single rays through the 4-wide BVH (trace_bvh.cpp), for tests and callers holding a Bvh4.
+// Single rays through a BVH (bvh/bvh.h): the "bvh" tracer's kernel (trace_bvh.cpp), for tests
+// and callers holding a Bvh.
 #pragma once
 
 #include "bvh/bvh.h"
+#include "simd/isa.h"
+#include "simd/simd.h"
 
 namespace rtt {
+inline namespace RTT_ISA_NS {
 
-/// The closest hit of `ray` (trace_ray's, bit for bit).
-Hit trace_bvh(const Bvh4& bvh, const Ray& ray);
+/// Children per node of this ISA's kernel: 8 where nodes are tested with 8-lane vectors.
+inline constexpr int bvh_width = simd_max_width >= 8 ? 8 : 4;
+
+/// The closest hit of `ray` (trace_ray's, bit for bit). W = 4, or bvh_width.
+template <int W>
+Hit trace_bvh(const Bvh<W>& bvh, const Ray& ray);
 
 /// Whether some triangle meets `ray` in [tmin, tmax] (occluded_ray's answer).
-bool occluded_bvh(const Bvh4& bvh, const Ray& ray);
+template <int W>
+bool occluded_bvh(const Bvh<W>& bvh, const Ray& ray);
 
+}  // namespace RTT_ISA_NS
 }  // namespace rtt
