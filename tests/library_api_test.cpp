@@ -109,6 +109,30 @@ TEST(LibraryApi, VisibleRaysEqualsOccludedSegments) {
     }
 }
 
+TEST(LibraryApi, VisibleRaysAgreeWithClosestHits) {
+    // Arbitrary rays, bounded and not: each kind's any-hit path (visible_arbitrary) answers
+    // what the reference's closest hit says.
+    const Scene scene = test_scene();
+    const KdTree tree = build_kdtree(scene);
+    std::vector<Ray> rays = random_rays(scene.bounds(), 3000, 17);
+    for (size_t i = 0; i < rays.size(); i += 2) rays[i].tmax = 0.5f;
+    std::vector<Hit> closest(rays.size());
+    intersect_rays(*make_tracer("ray", scene, tree), rays, closest);
+    size_t blocked = 0;
+    for (const Hit& h : closest) blocked += h.valid();
+    ASSERT_GT(blocked, 100u);
+    ASSERT_LT(blocked, rays.size() - 100u);
+    for (const std::string& kind : tracer_kinds()) {
+        std::vector<uint8_t> visible(rays.size());
+        TraceStats stats;
+        visible_rays(*make_tracer(kind, scene, tree), rays, visible, &stats);
+        size_t mismatches = 0;
+        for (size_t i = 0; i < rays.size(); ++i) mismatches += visible[i] != !closest[i].valid();
+        EXPECT_EQ(mismatches, 0u) << kind;
+        EXPECT_EQ(stats.rays, rays.size()) << kind;
+    }
+}
+
 TEST(LibraryApi, RayBatchesRefuseBadInput) {
     const Scene scene = test_scene();
     const KdTree tree = build_kdtree(scene);

@@ -158,21 +158,35 @@ public:
     virtual void occluded(const SegmentTile& tile, std::span<uint8_t> visible,
                           TraceStats* stats = nullptr,
                           std::span<SampleAnswer> answers = {}) const = 0;
+
+    /// Closest hits of rays without a tile shape (any origins, directions and intervals, the
+    /// spans of equal size): hits[i] for rays[i]. intersect_rays() calls it on chunks of its
+    /// rays, concurrently. The default traces them as a one-row tile without a shaft; a tracer
+    /// overrides it where another path is faster for such rays (RTT: the BVH kernel).
+    virtual void intersect_arbitrary(std::span<const Ray> rays, std::span<Hit> hits,
+                                     TraceStats* stats = nullptr) const;
+
+    /// visible[i] = 1 when no triangle meets rays[i] for t in [tmin, tmax], else 0; as
+    /// intersect_arbitrary. The default answers from intersect_arbitrary's closest hits;
+    /// tracers with an any-hit traversal override it.
+    virtual void visible_arbitrary(std::span<const Ray> rays, std::span<uint8_t> visible,
+                                   TraceStats* stats = nullptr) const;
 };
 
 /// Closest hits of arbitrary rays (any origins, directions and [tmin, tmax]): hits[i] for
-/// rays[i]. Without a tile shape every tracer traces them as packets of consecutive rays (RTT
-/// falls back to its packets), so rays that are neighbours in the array should be neighbours in
-/// space. Runs on the calling thread's oneTBB arena (limit it with tbb::global_control or a
-/// tbb::task_arena); the answers do not depend on the thread count. Throws rtt::Error when the
-/// spans differ in size or a ray has a NaN or infinite value, a zero direction or tmin > tmax.
+/// rays[i], through Tracer::intersect_arbitrary on chunks of consecutive rays (packet tracers
+/// trace them as packets, so rays that are neighbours in the array should be neighbours in
+/// space; `rtt` and `bvh` trace them one by one through a BVH). Runs on the calling thread's oneTBB
+/// arena (limit it with tbb::global_control or a tbb::task_arena); the answers do not depend on the
+/// thread count. Throws rtt::Error when the spans differ in size or a ray has a NaN or infinite
+/// value, a zero direction or tmin > tmax.
 void intersect_rays(const Tracer& tracer, std::span<const Ray> rays, std::span<Hit> hits,
                     TraceStats* stats = nullptr);
 
 /// Visibility along arbitrary rays: visible[i] = 1 when no triangle meets rays[i] for t in
-/// [tmin, tmax], else 0. The same rays, threads and errors as intersect_rays (it answers with
-/// the closest hit, which is exact, not an any-hit shortcut). For a shadow segment from a light
-/// L to a point p, pass shadow_ray(L, p): the answers then equal Tracer::occluded's.
+/// [tmin, tmax], else 0, through Tracer::visible_arbitrary (an any-hit traversal where the
+/// tracer has one). The same rays, threads and errors as intersect_rays. For a shadow segment from
+/// a light L to a point p, pass shadow_ray(L, p): the answers then equal Tracer::occluded's.
 void visible_rays(const Tracer& tracer, std::span<const Ray> rays, std::span<uint8_t> visible,
                   TraceStats* stats = nullptr);
 

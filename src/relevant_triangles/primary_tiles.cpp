@@ -15,6 +15,7 @@
 #include "trace/packet_blocks.h"
 #include "trace/trace_frustum.h"
 #include "trace/trace_packet.h"
+#include "trace/traced_tile.h"
 
 namespace rtt {
 inline namespace RTT_ISA_NS {
@@ -38,6 +39,27 @@ void RttTracer::intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* 
     st.rays = uint64_t(n);
     st.traced = uint64_t(n) - st.answered;
     if (stats) *stats += st;
+}
+
+const Bvh<bvh_width>& RttTracer::bvh() const {
+    std::call_once(bvh_once_, [&] {
+        bvh_ = std::make_unique<const Bvh<bvh_width>>(build_bvh<bvh_width>(triangles_));
+    });
+    return *bvh_;
+}
+
+void RttTracer::intersect_arbitrary(std::span<const Ray> rays, std::span<Hit> hits,
+                                    TraceStats* stats) const {
+    const Bvh<bvh_width>& b = bvh();
+    for (size_t i = 0; i < rays.size(); ++i) hits[i] = trace_bvh(b, rays[i]);
+    record_traced_tile(rays.size(), stats, {});
+}
+
+void RttTracer::visible_arbitrary(std::span<const Ray> rays, std::span<uint8_t> visible,
+                                  TraceStats* stats) const {
+    const Bvh<bvh_width>& b = bvh();
+    for (size_t i = 0; i < rays.size(); ++i) visible[i] = !occluded_bvh(b, rays[i]);
+    record_traced_tile(rays.size(), stats, {});
 }
 
 /// The end of a primary shaft's region when all 4 corners hit triangles of one plane P seen

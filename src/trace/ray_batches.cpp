@@ -1,5 +1,5 @@
-// Arbitrary rays through the tile interface: chunks of consecutive rays become one-row tiles
-// without a shaft, traced in parallel.
+// Arbitrary rays: chunks of consecutive rays handed to Tracer::intersect_arbitrary and
+// visible_arbitrary in parallel (by default one-row tiles without a shaft).
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
@@ -32,40 +32,52 @@ void check_rays(std::span<const Ray> rays, size_t outputs, const char* output) {
     }
 }
 
-/// Calls trace(tile, first) for every chunk of `rays` in parallel and sums the statistics.
+/// Calls trace(chunk, first) for every chunk of `rays` in parallel and sums the statistics.
 template <typename Trace>
 void for_each_chunk(std::span<const Ray> rays, TraceStats* stats, const Trace& trace) {
     tbb::combinable<TraceStats> partial;
     const size_t chunks = (rays.size() + chunk_rays - 1) / chunk_rays;
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks),
-                      [&](const tbb::blocked_range<size_t>& r) {
-                          for (size_t c = r.begin(); c != r.end(); ++c) {
-                              const size_t first = c * chunk_rays;
-                              const size_t n = std::min(chunk_rays, rays.size() - first);
-                              const RayTile tile{int(n), 1, rays.subspan(first, n), false};
-                              trace(tile, first, stats ? &partial.local() : nullptr);
-                          }
-                      });
+    tbb::parallel_for(
+        tbb::blocked_range<size_t>(0, chunks), [&](const tbb::blocked_range<size_t>& r) {
+            for (size_t c = r.begin(); c != r.end(); ++c) {
+                const size_t first = c * chunk_rays;
+                const size_t n = std::min(chunk_rays, rays.size() - first);
+                trace(rays.subspan(first, n), first, stats ? &partial.local() : nullptr);
+            }
+        });
     if (stats) partial.combine_each([&](const TraceStats& s) { *stats += s; });
 }
 
 }  // namespace
 
+void Tracer::intersect_arbitrary(std::span<const Ray> rays, std::span<Hit> hits,
+                                 TraceStats* stats) const {
+    intersect(RayTile{int(rays.size()), 1, rays, false}, hits, stats);
+}
+
+void Tracer::visible_arbitrary(std::span<const Ray> rays, std::span<uint8_t> visible,
+                               TraceStats* stats) const {
+    Hit hits[chunk_rays];
+    for (size_t first = 0; first < rays.size(); first += chunk_rays) {
+        const size_t n = std::min(chunk_rays, rays.size() - first);
+        intersect_arbitrary(rays.subspan(first, n), std::span<Hit>(hits, n), stats);
+        for (size_t i = 0; i < n; ++i) visible[first + i] = hits[i].valid() ? 0 : 1;
+    }
+}
+
 void intersect_rays(const Tracer& tracer, std::span<const Ray> rays, std::span<Hit> hits,
                     TraceStats* stats) {
     check_rays(rays, hits.size(), "hits");
-    for_each_chunk(rays, stats, [&](const RayTile& tile, size_t first, TraceStats* st) {
-        tracer.intersect(tile, hits.subspan(first, tile.rays.size()), st);
+    for_each_chunk(rays, stats, [&](std::span<const Ray> chunk, size_t first, TraceStats* st) {
+        tracer.intersect_arbitrary(chunk, hits.subspan(first, chunk.size()), st);
     });
 }
 
 void visible_rays(const Tracer& tracer, std::span<const Ray> rays, std::span<uint8_t> visible,
                   TraceStats* stats) {
     check_rays(rays, visible.size(), "visible");
-    for_each_chunk(rays, stats, [&](const RayTile& tile, size_t first, TraceStats* st) {
-        Hit hits[chunk_rays];
-        tracer.intersect(tile, std::span<Hit>(hits, tile.rays.size()), st);
-        for (size_t i = 0; i < tile.rays.size(); ++i) visible[first + i] = hits[i].valid() ? 0 : 1;
+    for_each_chunk(rays, stats, [&](std::span<const Ray> chunk, size_t first, TraceStats* st) {
+        tracer.visible_arbitrary(chunk, visible.subspan(first, chunk.size()), st);
     });
 }
 

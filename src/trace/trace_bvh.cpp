@@ -153,7 +153,15 @@ Hit traverse(const Bvh<W>& bvh, const Ray& ray) {
             const BvhNode<W>& node = bvh.nodes[cur];
             vfloat<W> near;
             uint32_t mask = br.test(node, ray.tmin, wr.tmax, near);
-            if (mask) {
+            if constexpr (AnyHit) {
+                // Any hit ends the ray: no order to keep, no distance to sort by.
+                if (mask) {
+                    cur = node.child[std::countr_zero(mask)];
+                    for (mask &= mask - 1; mask; mask &= mask - 1)
+                        stack[top++] = {node.child[std::countr_zero(mask)], neg_inf};
+                    continue;
+                }
+            } else if (mask) {
                 alignas(4 * W) float d[W];
                 store(d, near);
                 int i = std::countr_zero(mask);
@@ -211,6 +219,19 @@ public:
                   std::span<SampleAnswer> answers) const override {
         occluded_one_by_one(tile, visible, stats, answers,
                             [&](const Ray& ray) { return traverse<W, true>(bvh_, ray).valid(); });
+    }
+
+    void intersect_arbitrary(std::span<const Ray> rays, std::span<Hit> hits,
+                             TraceStats* stats) const override {
+        for (size_t i = 0; i < rays.size(); ++i) hits[i] = traverse<W, false>(bvh_, rays[i]);
+        record_traced_tile(rays.size(), stats, {});
+    }
+
+    void visible_arbitrary(std::span<const Ray> rays, std::span<uint8_t> visible,
+                           TraceStats* stats) const override {
+        for (size_t i = 0; i < rays.size(); ++i)
+            visible[i] = !traverse<W, true>(bvh_, rays[i]).valid();
+        record_traced_tile(rays.size(), stats, {});
     }
 
 private:

@@ -36,6 +36,7 @@
 #include <cstring>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -194,20 +195,25 @@ public:
 
     void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
                   std::span<SampleAnswer> answers) const override {
-        switch (mode_) {
-            case EmbreeMode::packets:
-                occluded16(tile, visible);
-                break;
-            case EmbreeMode::stream:
-                occluded_stream(tile, visible);
-                break;
-            case EmbreeMode::single:
-                occluded1(tile, visible);
-                break;
-        }
+        const auto segment = [&](int i) {
+            return tile.active[size_t(i)]
+                       ? std::optional(shadow_ray(tile.light, tile.points[size_t(i)]))
+                       : std::nullopt;
+        };
+        occluded_any(tile.width, tile.height, segment, visible);
         uint64_t n = 0;
         for (size_t i = 0; i < tile.points.size(); ++i) n += tile.active[i] != 0;
         record_traced_tile(n, stats, answers);
+    }
+
+    void visible_arbitrary(std::span<const Ray> rays, std::span<uint8_t> visible,
+                           TraceStats* stats) const override {
+        // Consecutive rays in 4-ray rows, so that a 4x4 block is 16 consecutive rays.
+        const int n = int(rays.size());
+        occluded_any(
+            std::min(n, block), (n + block - 1) / block,
+            [&](int i) { return i < n ? std::optional(rays[size_t(i)]) : std::nullopt; }, visible);
+        record_traced_tile(rays.size(), stats, {});
     }
 
 private:
@@ -278,23 +284,6 @@ private:
                 hits[index[j]] = Hit{rays[j].ray.tfar, rays[j].hit.primID};
     }
 
-    void occluded_stream(const SegmentTile& tile, std::span<uint8_t> visible) const {
-        thread_local std::vector<RTCRay> rays;
-        thread_local std::vector<uint32_t> index;
-        RTCIntersectContext ctx = coherent_context();
-        rays.clear();
-        index.clear();
-        for (size_t i = 0; i < tile.points.size(); ++i) {
-            visible[i] = 0;
-            if (!tile.active[i]) continue;
-            set_ray(rays.emplace_back(), shadow_ray(tile.light, tile.points[i]));
-            index.push_back(uint32_t(i));
-        }
-        if (rays.empty()) return;
-        rtcOccluded1M(scene_.get(), &ctx, rays.data(), unsigned(rays.size()), sizeof(RTCRay));
-        for (size_t j = 0; j < rays.size(); ++j) visible[index[j]] = rays[j].tfar != neg_inf;
-    }
-
     void intersect1(const RayTile& tile, std::span<Hit> hits) const {
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
@@ -310,37 +299,76 @@ private:
         }
     }
 
-    // rtcOccluded* marks an occluded ray by setting tfar to -inf.
-    void occluded16(const SegmentTile& tile, std::span<uint8_t> visible) const {
+    // Any-hit in the tracer's mode over a width x height grid of rays; ray_of(i) gives sample
+    // i's ray, or nothing (visible 0). rtcOccluded* marks an occluded ray with tfar = -inf.
+    template <typename RayOf>
+    void occluded_any(int width, int height, const RayOf& ray_of,
+                      std::span<uint8_t> visible) const {
+        switch (mode_) {
+            case EmbreeMode::packets:
+                return occluded16(width, height, ray_of, visible);
+            case EmbreeMode::stream:
+                return occluded_stream(width * height, ray_of, visible);
+            case EmbreeMode::single:
+                return occluded1(width * height, ray_of, visible);
+        }
+    }
+
+    template <typename RayOf>
+    void occluded16(int width, int height, const RayOf& ray_of, std::span<uint8_t> visible) const {
         RTCIntersectContext ctx = coherent_context();
         alignas(64) RTCRay16 r;
         alignas(64) int valid[lanes];
         int index[lanes];
-        for (int by = 0; by < tile.height; by += block) {
-            for (int bx = 0; bx < tile.width; bx += block) {
+        for (int by = 0; by < height; by += block) {
+            for (int bx = 0; bx < width; bx += block) {
                 for (int l = 0; l < lanes; ++l) {
-                    index[l] = lane_index(tile.width, tile.height, bx, by, l);
-                    const bool on = index[l] >= 0 && tile.active[index[l]];
-                    valid[l] = on ? -1 : 0;
-                    set_lane(r, l, on ? shadow_ray(tile.light, tile.points[index[l]]) : idle_ray);
+                    index[l] = lane_index(width, height, bx, by, l);
+                    const std::optional<Ray> ray = index[l] >= 0 ? ray_of(index[l]) : std::nullopt;
+                    valid[l] = ray ? -1 : 0;
+                    set_lane(r, l, ray ? *ray : idle_ray);
                 }
                 rtcOccluded16(valid, scene_.get(), &ctx, &r);
                 for (int l = 0; l < lanes; ++l)
-                    if (index[l] >= 0) visible[index[l]] = valid[l] && r.tfar[l] != neg_inf;
+                    if (index[l] >= 0 && size_t(index[l]) < visible.size())
+                        visible[size_t(index[l])] = valid[l] && r.tfar[l] != neg_inf;
             }
         }
     }
 
-    void occluded1(const SegmentTile& tile, std::span<uint8_t> visible) const {
+    // The stream kernels take an array of rays; one call per tile, in the tile's order. The
+    // array is per thread (tiles are traced concurrently) and reused from tile to tile.
+    template <typename RayOf>
+    void occluded_stream(int n, const RayOf& ray_of, std::span<uint8_t> visible) const {
+        thread_local std::vector<RTCRay> rays;
+        thread_local std::vector<uint32_t> index;
+        RTCIntersectContext ctx = coherent_context();
+        rays.clear();
+        index.clear();
+        for (int i = 0; i < n; ++i) {
+            const std::optional<Ray> ray = ray_of(i);
+            if (size_t(i) < visible.size()) visible[size_t(i)] = 0;
+            if (!ray) continue;
+            set_ray(rays.emplace_back(), *ray);
+            index.push_back(uint32_t(i));
+        }
+        if (rays.empty()) return;
+        rtcOccluded1M(scene_.get(), &ctx, rays.data(), unsigned(rays.size()), sizeof(RTCRay));
+        for (size_t j = 0; j < rays.size(); ++j) visible[index[j]] = rays[j].tfar != neg_inf;
+    }
+
+    template <typename RayOf>
+    void occluded1(int n, const RayOf& ray_of, std::span<uint8_t> visible) const {
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
-        for (size_t i = 0; i < tile.points.size(); ++i) {
-            visible[i] = 0;
-            if (!tile.active[i]) continue;
+        for (int i = 0; i < n; ++i) {
+            const std::optional<Ray> ray = ray_of(i);
+            if (size_t(i) < visible.size()) visible[size_t(i)] = 0;
+            if (!ray) continue;
             RTCRay r;
-            set_ray(r, shadow_ray(tile.light, tile.points[i]));
+            set_ray(r, *ray);
             rtcOccluded1(scene_.get(), &ctx, &r);
-            visible[i] = r.tfar != neg_inf;
+            visible[size_t(i)] = r.tfar != neg_inf;
         }
     }
 

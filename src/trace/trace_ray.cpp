@@ -140,6 +140,13 @@ public:
                             [&](const Ray& ray) { return occluded_ray(tree_, triangles_, ray); });
     }
 
+    void visible_arbitrary(std::span<const Ray> rays, std::span<uint8_t> visible,
+                           TraceStats* stats) const override {
+        for (size_t i = 0; i < rays.size(); ++i)
+            visible[i] = !occluded_ray(tree_, triangles_, rays[i]);
+        record_traced_tile(rays.size(), stats, {});
+    }
+
 private:
     const KdTree& tree_;
     std::vector<TriangleVerts> triangles_;
