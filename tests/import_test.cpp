@@ -11,6 +11,7 @@
 #include <random>
 
 #include "rtt/error.h"
+#include "rtt/io.h"
 #include "rtt/scene_io.h"
 
 namespace rtt {
@@ -381,6 +382,60 @@ TEST(Import, ObjErrorsCarryLineNumbers) {
     const std::string obj =
         temp_file("badmtl.obj", "mtllib bad.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     expect_error([&] { load_mesh_file(obj); }, mtl, "bad.mtl:2: expected a number, got 'x'");
+}
+
+// Textures count as their mean colour (times the material's own colour when the file gives
+// one), vertex colours as each triangle's mean; both in the OBJ reader and the assimp path.
+TEST(Import, TexturesAndVertexColoursBecomeColours) {
+    // Two texels, sRGB red and blue: mean linear colour (0.5, 0, 0.5).
+    const std::vector<uint8_t> texels = {255, 0, 0, 0, 0, 255};
+    std::filesystem::create_directories(temp_dir());
+    write_png((temp_dir() / "tex.png").string(), 2, 1, 3, texels);
+    const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    temp_file("tex.mtl",
+              "newmtl plain\nmap_Kd tex.png\nnewmtl tinted\nKd 0.5 1 1\nmap_Kd -s 1 1 1 "
+              "tex.png\nnewmtl lost\nmap_Kd absent.png\nKd 0.2 0.3 0.4\n");
+    const Scene o = load_mesh_file(temp_file(
+        "tex.obj", "mtllib tex.mtl\n" + tri +
+                       "usemtl plain\nf 1 2 3\nusemtl tinted\nf 1 2 3\nusemtl lost\nf 1 2 3\n"));
+    const auto diffuse = [](const Scene& s, size_t t) {
+        return s.materials.at(s.triangle_material.at(t)).diffuse;
+    };
+    EXPECT_EQ(diffuse(o, 0), Vec3f(0.5f, 0.f, 0.5f));
+    EXPECT_EQ(diffuse(o, 1), Vec3f(0.25f, 0.f, 0.5f));
+    EXPECT_EQ(diffuse(o, 2), Vec3f(0.2f, 0.3f, 0.4f));
+    ASSERT_EQ(o.warning_count, 1u);
+    EXPECT_NE(o.warnings[0].find("absent.png cannot be read"), std::string::npos) << o.warnings[0];
+
+    // glTF through assimp: the base colour texture (an external file) times baseColorFactor.
+    const std::string gltf =
+        temp_file("tex.gltf",
+                  R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+            "nodes": [{"mesh": 0}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}],
+            "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [1, 0.5, 1, 1],
+                                                    "baseColorTexture": {"index": 0}}}],
+            "textures": [{"source": 0}], "images": [{"uri": "tex.png"}],
+            "buffers": [{"byteLength": 60, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/"}],
+            "bufferViews": [{"buffer": 0, "byteLength": 36}],
+            "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                           "min": [0, 0, 0], "max": [1, 1, 0]}]})");
+    const Scene g = load_mesh_file(gltf);
+    ASSERT_EQ(g.triangle_count(), 1u);
+    EXPECT_EQ(diffuse(g, 0), Vec3f(0.5f, 0.f, 0.5f));
+
+    // PLY vertex colours: each triangle its vertices' mean, times the default grey.
+    const Scene p = load_mesh_file(temp_file(
+        "colours.ply",
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+        "property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
+        "element face 2\nproperty list uchar int vertex_indices\nend_header\n"
+        "0 0 0 255 0 0\n1 0 0 255 0 0\n0 1 0 255 0 0\n1 1 0 0 0 0\n3 0 1 2\n3 1 3 2\n"));
+    ASSERT_EQ(p.triangle_count(), 2u);
+    const float grey = Material{}.diffuse.x;
+    EXPECT_EQ(diffuse(p, 0), Vec3f(grey, 0.f, 0.f));
+    EXPECT_NEAR(diffuse(p, 1).x, grey * 2.f / 3.f, 1e-6f);
+    EXPECT_EQ(diffuse(p, 1).y, 0.f);
 }
 
 // The reading policy (docs/robustness.md): what other viewers open is repaired with a

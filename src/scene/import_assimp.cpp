@@ -15,8 +15,12 @@
 #include <algorithm>
 #include <assimp/Importer.hpp>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
+#include <optional>
+#include <span>
 #include <string_view>
 #include <unordered_map>
 #include <unordered_set>
@@ -24,6 +28,7 @@
 #include "rtt/error.h"
 #include "scene/affine.h"
 #include "scene/importers.h"
+#include "scene/texture_colour.h"
 
 namespace rtt::detail {
 namespace {
@@ -95,7 +100,8 @@ public:
           ignore_materials_(ext_ == "stl" || ext_ == "ply" || ext_ == "off"),
           mesh_tris_(ai.mNumMeshes),
           mesh_checked_(ai.mNumMeshes, false),
-          material_map_(ai.mNumMaterials, invalid_triangle) {
+          material_map_(ai.mNumMaterials, invalid_triangle),
+          colour_materials_(ai.mNumMeshes) {
         scene_.name = path;
     }
 
@@ -196,9 +202,90 @@ private:
             !ai_.mMaterials[m.mMaterialIndex])
             fail("a mesh uses missing material " + std::to_string(m.mMaterialIndex));
         uint32_t& mapped = material_map_[m.mMaterialIndex];
-        if (mapped == invalid_triangle)
-            mapped = scene_.add_material(convert_material(*ai_.mMaterials[m.mMaterialIndex]));
+        if (mapped == invalid_triangle) {
+            const aiMaterial& am = *ai_.mMaterials[m.mMaterialIndex];
+            Material out = convert_material(am);
+            if (out.name != AI_DEFAULT_MATERIAL_NAME) apply_texture(am, out);
+            mapped = scene_.add_material(out);
+        }
         return mapped;
+    }
+
+    /// A base-colour (glTF) or diffuse texture counts as its mean colour, times the material's
+    /// own colour when the file gives one (texture_colour.h). One that cannot be read leaves
+    /// the colour as it is, with a warning.
+    void apply_texture(const aiMaterial& am, Material& out) {
+        for (const aiTextureType type : {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE}) {
+            aiString file;
+            if (am.GetTextureCount(type) == 0 || am.GetTexture(type, 0, &file) != AI_SUCCESS)
+                continue;
+            std::optional<Vec3f> mean;
+            if (const aiTexture* t = ai_.GetEmbeddedTexture(file.C_Str())) {
+                if (t->mHeight == 0 && t->pcData)  // an image file's bytes, mWidth of them
+                    mean = mean_encoded_colour(
+                        std::span(reinterpret_cast<const uint8_t*>(t->pcData), size_t(t->mWidth)));
+                else if (t->pcData)
+                    mean = mean_of_texels(*t);
+            } else if (file.length > 0) {
+                mean = mean_image_colour(
+                    (std::filesystem::path(path_).parent_path() / file.C_Str()).string());
+            }
+            aiColor3D c;
+            const bool coloured = am.Get(AI_MATKEY_COLOR_DIFFUSE, c) == AI_SUCCESS;
+            if (mean)
+                out.diffuse = (coloured ? out.diffuse : Vec3f{1.f}) * *mean;
+            else
+                scene_.warn(path_ + ": texture \"" + one_line(file.C_Str()) + "\" of material \"" +
+                            out.name + "\" cannot be read; the material keeps its colour");
+            return;
+        }
+    }
+
+    static Vec3f mean_of_texels(const aiTexture& t) {
+        const size_t n = size_t(t.mWidth) * size_t(t.mHeight);
+        std::vector<uint8_t> rgba(4 * n);
+        for (size_t i = 0; i < n; ++i) {
+            rgba[4 * i] = t.pcData[i].r;
+            rgba[4 * i + 1] = t.pcData[i].g;
+            rgba[4 * i + 2] = t.pcData[i].b;
+            rgba[4 * i + 3] = t.pcData[i].a;
+        }
+        return mean_texel_colour(rgba.data(), n);
+    }
+
+    /// Per triangle of mesh `index`, the material for its vertex colours (the mean of its three
+    /// vertices' first colour set, times the mesh material's colour), or none when the mesh has
+    /// no vertex colours. Materials are shared by triangles whose colours agree in 8 bits.
+    const std::vector<uint32_t>& vertex_colour_materials(unsigned index, uint32_t base) {
+        std::vector<uint32_t>& out = colour_materials_[index];
+        const aiMesh& m = *ai_.mMeshes[index];
+        if (!out.empty() || !m.mColors[0]) return out;
+        const std::vector<TriangleIndices>& tris = mesh_tris_[index];
+        out.resize(tris.size());
+        for (size_t t = 0; t < tris.size(); ++t) {
+            Vec3f sum{0.f};
+            for (const uint32_t v : tris[t]) {
+                const aiColor4D& c = m.mColors[0][v];
+                sum = sum + Vec3f{c.r, c.g, c.b};
+            }
+            const Vec3f mean = min(max(sum / 3.f, Vec3f{0.f}), Vec3f{1.f});
+            // NaN colours (a broken file) keep the mesh's material.
+            if (!is_finite(mean)) {
+                out[t] = base;
+                continue;
+            }
+            const uint32_t key = uint32_t(std::lround(mean.x * 255.f)) |
+                                 uint32_t(std::lround(mean.y * 255.f)) << 8 |
+                                 uint32_t(std::lround(mean.z * 255.f)) << 16;
+            const auto [it, added] = colour_keys_.try_emplace({base, key}, 0u);
+            if (added) {
+                Material mat = scene_.materials[base];
+                mat.diffuse = mat.diffuse * mean;
+                it->second = scene_.add_material(mat);
+            }
+            out[t] = it->second;
+        }
+        return out;
     }
 
     uint32_t default_material() {
@@ -233,7 +320,12 @@ private:
                 normals[v] = !is_finite(n) ? Vec3f{0.f} : identity ? n : xf.normal(n);
             }
         }
-        scene_.add_mesh(verts, tris, material_of(m), normals);
+        const uint32_t material = material_of(m);
+        const size_t first = scene_.triangles.size();
+        scene_.add_mesh(verts, tris, material, normals);
+        const std::vector<uint32_t>& colours = vertex_colour_materials(index, material);
+        for (size_t t = 0; t < colours.size(); ++t)
+            scene_.triangle_material[first + t] = colours[t];
     }
 
     Affine transform_of(const aiString& name) const {
@@ -314,6 +406,8 @@ private:
     std::vector<std::vector<TriangleIndices>> mesh_tris_;
     std::vector<bool> mesh_checked_;
     std::vector<uint32_t> material_map_;
+    std::vector<std::vector<uint32_t>> colour_materials_;  ///< Per mesh: vertex_colour_materials.
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t> colour_keys_;  ///< (base, rgb8) -> material.
     uint32_t default_material_ = invalid_triangle;
     std::unordered_map<std::string, Affine> node_transform_;
     size_t skipped_points_ = 0, skipped_lines_ = 0;

@@ -9,10 +9,12 @@
 // with line numbers.
 #include <algorithm>
 #include <filesystem>
+#include <optional>
 #include <unordered_map>
 #include <unordered_set>
 
 #include "scene/text_reader.h"
+#include "scene/texture_colour.h"
 
 namespace rtt::detail {
 namespace {
@@ -28,11 +30,14 @@ int64_t obj_index(const TextParser& p, std::string_view t, size_t count) {
     return v > 0 ? v - 1 : int64_t(count) + v;
 }
 
-/// The materials of an MTL file by name: Kd, Ks, Ns and illum (0 and 1 mean no highlights);
-/// other statements (textures, transparency, ...) do not apply to rtt's materials.
+/// The materials of an MTL file by name: Kd, Ks, Ns and illum (0 and 1 mean no highlights), and
+/// map_Kd as its mean colour, times Kd when both are given (texture_colour.h); other statements
+/// (transparency, bump maps, ...) do not apply to rtt's materials.
 std::unordered_map<std::string, Material> read_mtl(const std::string& path, Scene& scene) {
     std::unordered_map<std::string, Material> out;
     std::unordered_map<std::string, bool> no_highlights;
+    std::unordered_map<std::string, Vec3f> texture_mean;
+    std::unordered_set<std::string> kd_given;
     TextParser p{path};
     std::string cur;
     for_each_line(read_text_file(path), false, [&](const Tokens& tk, int line) {
@@ -46,6 +51,17 @@ std::unordered_map<std::string, Material> read_mtl(const std::string& path, Scen
             cur = tk.size() < 2 ? std::string() : std::string(tk[1]);
             out[cur] = Material{};
             out[cur].name = cur;
+        } else if (key == "map_Kd") {
+            if (out.empty()) p.fail("map_Kd before newmtl");
+            if (tk.size() < 2) p.fail("expected a file name after 'map_Kd'");
+            // Options (-s 1 1 1, -clamp on, ...) come first; the file name is the last token.
+            const std::filesystem::path file =
+                std::filesystem::path(path).parent_path() / std::string(tk.back());
+            if (const std::optional<Vec3f> mean = mean_image_colour(file.string()))
+                texture_mean[cur] = *mean;
+            else
+                scene.warn(path + ":" + std::to_string(line) + ": texture " + file.string() +
+                           " cannot be read; material \"" + cur + "\" keeps its Kd");
         } else if (key == "Kd" || key == "Ks" || key == "Ns" || key == "illum") {
             if (out.empty()) p.fail(std::string(key) + " before newmtl");
             if (tk.size() < 2) p.fail("expected a value after '" + std::string(key) + "'");
@@ -55,9 +71,10 @@ std::unordered_map<std::string, Material> read_mtl(const std::string& path, Scen
             const Vec3f c = tk.size() >= 4 ? Vec3f{r, p.number(tk[2]), p.number(tk[3])} : Vec3f{r};
             const Vec3f clamped = min(max(c, Vec3f{0.f}), Vec3f{1.f});
             Material& m = out[cur];
-            if (key == "Kd")
+            if (key == "Kd") {
                 m.diffuse = clamped;
-            else if (key == "Ks")
+                kd_given.insert(cur);
+            } else if (key == "Ks")
                 m.specular = clamped;
             else if (key == "Ns")
                 m.shininess = std::max(r, 0.f);
@@ -65,8 +82,12 @@ std::unordered_map<std::string, Material> read_mtl(const std::string& path, Scen
                 no_highlights[cur] = r < 2.f;
         }
     });
-    for (auto& [name, m] : out)
+    for (auto& [name, m] : out) {
         if (no_highlights[name]) m.specular = Vec3f{0.f};
+        const auto tex = texture_mean.find(name);
+        if (tex != texture_mean.end())
+            m.diffuse = (kd_given.count(name) ? m.diffuse : Vec3f{1.f}) * tex->second;
+    }
     return out;
 }
 
