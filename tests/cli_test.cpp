@@ -178,6 +178,27 @@ TEST(Cli, StrictRefusesRepairedFiles) {
 
 /// `rtt render FILE` is `rtt render --scene FILE`: the same hit buffer; with --mesh or --scene
 /// as well it is an error.
+TEST(Cli, CamerasOfTheFileAreListedAndPicked) {
+    const TempDir dir("cameras");
+    const std::string gltf = "'" + std::string(RTT_TEST_DATA_DIR) + "/scene_io/two_cameras.gltf'";
+    const RunResult list = run_cli(dir, "render " + gltf + " --list-cameras");
+    ASSERT_EQ(list.exit_code, 0) << list.err;
+    EXPECT_NE(list.out.find("0 \"front\": --camera 0,0,3,"), std::string::npos) << list.out;
+    EXPECT_NE(list.out.find("1 \"side\": --camera 3,0,0,"), std::string::npos) << list.out;
+    // --camera N renders from camera N: 1 differs from 0, which is the file's default.
+    const auto hits = [&](const std::string& extra, const std::string& name) {
+        const RunResult r = run_cli(
+            dir, "render " + gltf + extra + " --size 24x24 -q --hits '" + dir.file(name) + "'");
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        return read_text(dir.file(name));
+    };
+    EXPECT_EQ(hits("", "default.rtth"), hits(" --camera 0", "zero.rtth"));
+    EXPECT_NE(hits("", "default.rtth"), hits(" --camera 1", "one.rtth"));
+    const RunResult bad = run_cli(dir, "render " + gltf + " --camera 2 -q");
+    EXPECT_EQ(bad.exit_code, 1);
+    EXPECT_NE(bad.err.find("has 2 cameras (0 to 1; --list-cameras)"), std::string::npos) << bad.err;
+}
+
 TEST(Cli, PositionalInputIsTheScene) {
     const TempDir dir("positional");
     const std::string quoted = "'" + mesh_path + "'";

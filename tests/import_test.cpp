@@ -438,6 +438,22 @@ TEST(Import, TexturesAndVertexColoursBecomeColours) {
     EXPECT_EQ(diffuse(p, 1).y, 0.f);
 }
 
+TEST(Import, EveryCameraOfAFileInOrder) {
+    // One triangle seen by two named perspective cameras, on the +z and +x axes.
+    const Scene s = load_mesh_file(data_dir + "two_cameras.gltf");
+    ASSERT_EQ(s.file_cameras.size(), 2u);
+    EXPECT_EQ(s.file_cameras[0].name, "front");
+    EXPECT_EQ(s.file_cameras[1].name, "side");
+    ASSERT_TRUE(s.camera);
+    EXPECT_EQ(s.camera->position, s.file_cameras[0].camera.position);
+    EXPECT_NEAR(s.file_cameras[0].camera.position.z, 3.f, 1e-6f);
+    EXPECT_NEAR(s.file_cameras[1].camera.position.x, 3.f, 1e-6f);
+    // The side camera looks down -x (its node turns -z into -x).
+    const Camera& side = s.file_cameras[1].camera;
+    EXPECT_LT(side.target.x - side.position.x, 0.f);
+    EXPECT_GT(s.file_cameras[0].camera.fovy_deg, s.file_cameras[1].camera.fovy_deg);
+}
+
 // The reading policy (docs/robustness.md): what other viewers open is repaired with a
 // warning, and the rest of the file read as it is.
 TEST(Import, RepairsWarnAndKeepTheRest) {

@@ -156,6 +156,35 @@ void write_outputs(OutputSet& outputs, const RenderJob& job, size_t frame, size_
 
 }  // namespace
 
+/// The file's camera `index` (decimal digits), or an error naming how many it has.
+Camera file_camera(const Scene& scene, const std::string& index) {
+    const size_t n = scene.file_cameras.size();
+    size_t i = 0;
+    const auto [end, ec] = std::from_chars(index.data(), index.data() + index.size(), i);
+    if (ec != std::errc() || end != index.data() + index.size() || i >= n)
+        throw Error("--camera " + index + ": " + scene.name + " has " + std::to_string(n) +
+                    (n == 1 ? " camera" : " cameras") +
+                    (n == 0 ? "" : " (0 to " + std::to_string(n - 1) + "; --list-cameras)"));
+    return scene.file_cameras[i].camera;
+}
+
+/// --list-cameras: one line per camera of the file, as --camera takes it.
+void list_cameras(const RenderJob& job) {
+    const LoadedScene loaded = load_scene_quietly(job.scene);
+    const Scene& scene = loaded.scene;
+    if (scene.file_cameras.empty()) {
+        std::printf("%s defines no camera\n", loaded.label.c_str());
+        return;
+    }
+    for (size_t i = 0; i < scene.file_cameras.size(); ++i) {
+        const FileCamera& f = scene.file_cameras[i];
+        const Camera& c = f.camera;
+        std::printf("%zu \"%s\": --camera %.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", i,
+                    f.name.c_str(), c.position.x, c.position.y, c.position.z, c.target.x,
+                    c.target.y, c.target.z, c.up.x, c.up.y, c.up.z, c.fovy_deg);
+    }
+}
+
 RenderJobResult run_render_job(const RenderJob& job) {
     // Everything checkable without the scene first: bad options fail fast.
     RenderOptions opt;
@@ -171,7 +200,10 @@ RenderJobResult run_render_job(const RenderJob& job) {
         throw Error(std::to_string(light_positions.size()) + " lights given; at most " +
                     std::to_string(max_lights) + " are supported");
     std::optional<Camera> camera;
-    if (!job.camera.empty()) camera = parse_camera(job.camera);
+    // --camera N picks a camera of the file once it is loaded; 10 numbers give one here.
+    const bool camera_index =
+        !job.camera.empty() && job.camera.find_first_not_of("0123456789") == std::string::npos;
+    if (!job.camera.empty() && !camera_index) camera = parse_camera(job.camera);
     const std::string tracer_kind = job.tracer.empty() ? default_tracer_kind() : job.tracer;
     check_tracer_kind(tracer_kind);
     opt.hits_buffer = !job.hits.empty();
@@ -191,7 +223,7 @@ RenderJobResult run_render_job(const RenderJob& job) {
 
     std::vector<Camera> path;
     if (!job.camera_path.empty()) {
-        if (camera) throw Error("give --camera or --camera-path, not both");
+        if (!job.camera.empty()) throw Error("give --camera or --camera-path, not both");
         path = read_camera_path(job.camera_path);
     }
     const size_t frames = path.empty() ? 1 : path.size();
@@ -233,6 +265,7 @@ RenderJobResult run_render_job(const RenderJob& job) {
     }();
     if (writer) print_warnings(loaded.scene);
     Scene& scene = loaded.scene;
+    if (camera_index) camera = file_camera(scene, job.camera);
     const Bbox3f bounds = scene.bounds();
     const Camera start = starting_camera(loaded, camera);
     const auto camera_of = [&](size_t frame) { return path.empty() ? start : path[frame]; };
@@ -320,7 +353,10 @@ void add_render_command(CLI::App& app) {
     add_scene_options(*cmd, job->scene);
     add_tree_options(*cmd, job->tree);
     cmd->add_option("--camera", job->camera,
-                    "Pinhole camera px,py,pz,tx,ty,tz,ux,uy,uz,fovy (degrees)");
+                    "Pinhole camera px,py,pz,tx,ty,tz,ux,uy,uz,fovy (degrees), or N: the "
+                    "file's camera N (from 0; --list-cameras)");
+    cmd->add_flag("--list-cameras", job->list_cameras,
+                  "Print the cameras the scene file defines (as --camera takes them) and exit");
     cmd->add_option("--camera-path", job->camera_path,
                     "Render a sequence: one camera per line (the 10 numbers of --camera; '#' "
                     "comments); output names need a frame number, as in -o frame_%04d.png");
@@ -375,6 +411,7 @@ void add_render_command(CLI::App& app) {
     cmd->callback([job, threads] {
         // 0 means "all cores" inside; on the command line it is a mistake.
         if (threads->count() > 0 && job->threads < 1) throw Error("--threads must be at least 1");
+        if (job->list_cameras) return list_cameras(*job);
         // No silent no-op: a render that asks for nothing writes the image and says where.
         const bool defaulted = has_no_output(*job);
         if (defaulted) {

@@ -16,9 +16,12 @@ namespace rtt::cli {
 
 struct RenderJob {
     SceneArgs scene;
-    TreeArgs tree;            ///< --save-tree, --load-tree
-    std::string camera;       ///< "px,py,pz,tx,ty,tz,ux,uy,uz,fovy"; empty = scene's or default.
-    std::string camera_path;  ///< --camera-path FILE: one camera per line, a frame each.
+    TreeArgs tree;  ///< --save-tree, --load-tree
+    /// "px,py,pz,tx,ty,tz,ux,uy,uz,fovy", or N: the file's camera N (Scene::file_cameras);
+    /// empty = the scene's or the default.
+    std::string camera;
+    bool list_cameras = false;     ///< --list-cameras: print the file's cameras, render nothing.
+    std::string camera_path;       ///< --camera-path FILE: one camera per line, a frame each.
     std::string size = "640x480";  ///< "WxH".
     int aa = 1;
     int region = 0;  ///< --region: pixels per region side (0 = RenderOptions' default).

@@ -41,6 +41,12 @@ struct Camera {
     float fovy_deg = 60.f;
 };
 
+/// A camera a mesh file defines, with its name there ("" when it has none).
+struct FileCamera {
+    std::string name;
+    Camera camera;
+};
+
 using TriangleIndices = std::array<uint32_t, 3>;
 
 struct Scene {
@@ -52,6 +58,9 @@ struct Scene {
     std::vector<Material> materials;
     std::vector<Light> lights;
     std::optional<Camera> camera;
+    /// Every perspective camera a mesh file defines, in file order (`camera` is the first);
+    /// `rtt render FILE --camera N` picks one, `--list-cameras` lists them.
+    std::vector<FileCamera> file_cameras;
     Vec3f background{0.05f, 0.05f, 0.08f};
     /// What an importer skipped or repaired ("file:line: face with 2 vertices skipped"): the
     /// first max_kept_warnings messages, and how many there were in all.

@@ -26,7 +26,7 @@ namespace {
 
 // Every field of Scene crosses the pipe. A new field must be added to serialize_scene and
 // deserialize_scene: these sizes make the build fail until someone looks here.
-static_assert(sizeof(Scene) == 264 && sizeof(Material) == 64 && sizeof(Light) == 52 &&
+static_assert(sizeof(Scene) == 296 && sizeof(Material) == 64 && sizeof(Light) == 52 &&
                   sizeof(Camera) == 40,
               "Scene changed: update serialize_scene / deserialize_scene (assimp_sandbox.cpp)");
 static_assert(std::is_trivially_copyable_v<Light> && std::is_trivially_copyable_v<Camera> &&
@@ -191,6 +191,11 @@ void write_scene(Writer& w, const Scene& s) {
     w.vector(s.lights);
     w.pod(uint8_t(s.camera.has_value()));
     if (s.camera) w.pod(*s.camera);
+    w.pod(uint64_t(s.file_cameras.size()));
+    for (const FileCamera& c : s.file_cameras) {
+        w.string(c.name);
+        w.pod(c.camera);
+    }
     w.pod(s.background);
     w.pod(uint64_t(s.warnings.size()));
     for (const std::string& warning : s.warnings) w.string(warning);
@@ -216,6 +221,13 @@ Scene read_scene(Reader& r) {
     }
     s.lights = r.vector<Light>();
     if (r.pod<uint8_t>()) s.camera = r.pod<Camera>();
+    const auto cameras = r.pod<uint64_t>();
+    for (uint64_t i = 0; i < cameras; ++i) {
+        FileCamera c;
+        c.name = r.string();
+        c.camera = r.pod<Camera>();
+        s.file_cameras.push_back(std::move(c));
+    }
     s.background = r.pod<Vec3f>();
     const auto warnings = r.pod<uint64_t>();
     for (uint64_t i = 0; i < warnings; ++i) {

@@ -115,7 +115,9 @@ public:
                       std::to_string(skipped_lines_) + " lines";
             fail(why.empty() ? "no triangles" : "no triangles (" + why + ")");
         }
-        if (ai_.mNumCameras > 0 && ai_.mCameras) import_camera(ai_.mCameras[0]);
+        for (unsigned i = 0; i < ai_.mNumCameras && ai_.mCameras; ++i)
+            import_camera(ai_.mCameras[i]);
+        if (!scene_.file_cameras.empty()) scene_.camera = scene_.file_cameras.front().camera;
         for (unsigned i = 0; i < ai_.mNumLights && ai_.mLights; ++i) import_light(ai_.mLights[i]);
         return std::move(scene_);
     }
@@ -333,11 +335,12 @@ private:
         return it == node_transform_.end() ? Affine{} : it->second;
     }
 
-    /// The first camera. assimp's mHorizontalFOV is, in practice, the FULL horizontal angle for
-    /// COLLADA and glTF (assimp issue #2256, despite camera.h saying half); assimp <= 5.2 builds
-    /// it for glTF as yfov * aspect (issue #4435, fixed in 5.3 to 2 atan(tan(yfov/2) aspect)),
-    /// and sets a glTF camera's mPosition to its node's translation although the node transform
-    /// already holds it (issue #5054), so for glTF the camera sits at its node's origin.
+    /// A perspective camera, appended to the scene's file cameras. assimp's mHorizontalFOV is, in
+    /// practice, the FULL horizontal angle for COLLADA and glTF (assimp issue #2256, despite
+    /// camera.h saying half); assimp <= 5.2 builds it for glTF as yfov * aspect (issue #4435, fixed
+    /// in 5.3 to 2 atan(tan(yfov/2) aspect)), and sets a glTF camera's mPosition to its node's
+    /// translation although the node transform already holds it (issue #5054), so for glTF the
+    /// camera sits at its node's origin.
     void import_camera(const aiCamera* cam) {
         if (!cam || cam->mOrthographicWidth > 0.f || cam->mHorizontalFOV == 0.f)
             return;  // orthographic
@@ -363,7 +366,7 @@ private:
             fail(label + ": view direction is zero or parallel to the up vector");
         // A target at a distance comparable to the position keeps the direction's precision.
         c.target = c.position + normalize(dir) * std::max(1.f, length(c.position));
-        scene_.camera = c;
+        scene_.file_cameras.push_back(FileCamera{one_line(cam->mName.C_Str()), c});
     }
 
     /// Point lights become omni, spot lights spot; other kinds are skipped. assimp's colour is
