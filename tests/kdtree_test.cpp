@@ -22,6 +22,7 @@
 #include "kdtree/kd_small_build.h"
 #include "rtt/camera.h"
 #include "rtt/error.h"
+#include "rtt/isa.h"
 #include "rtt/tracer.h"
 #include "same_hit.h"
 #include "trace/brute_force.h"
@@ -883,6 +884,26 @@ TEST(KdTree, BuildDoesNotDependOnThreadCount) {
     EXPECT_EQ(std::memcmp(one.nodes.data(), many.nodes.data(), one.nodes.size() * sizeof(KdNode)),
               0);
     EXPECT_EQ(one.leaf_triangles, many.leaf_triangles);
+}
+
+TEST(KdTree, BuildDoesNotDependOnIsa) {
+    // The small nodes' split search is a kernel of each ISA (kd_small_split.cpp).
+    const Scene scene = scene_of(random_soup(20000, 21, 0.2f));
+    const Isa active = active_isa();
+    std::vector<KdTree> trees;
+    for (const Isa isa : runnable_isas()) {
+        if (int(isa) > int(active)) continue;
+        limit_isa(isa);
+        trees.push_back(build_kdtree(scene));
+    }
+    limit_isa(active);
+    ASSERT_FALSE(trees.empty());
+    for (const KdTree& t : trees) {
+        ASSERT_EQ(t.nodes.size(), trees[0].nodes.size());
+        EXPECT_EQ(
+            std::memcmp(t.nodes.data(), trees[0].nodes.data(), t.nodes.size() * sizeof(KdNode)), 0);
+        EXPECT_EQ(t.leaf_triangles, trees[0].leaf_triangles);
+    }
 }
 
 TEST(Bvh, BuildDoesNotDependOnThreadCount) {
