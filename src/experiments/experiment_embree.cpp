@@ -72,6 +72,62 @@ TextTable throughput_table(const std::vector<Measurement>& ms,
     return t;
 }
 
+/// Seconds of one frame's primary and shadow rays by the fastest of `modes` measured in `m`
+/// (-1 when none was).
+double fastest_frame(const Measurement& m, const std::vector<std::string>& modes, ClockKind clock) {
+    double best = -1.0;
+    for (const std::string& k : modes)
+        if (const TracerResult* t = m.find(k)) {
+            const double s = t->primary.seconds(clock) + t->shadow.seconds(clock);
+            if (best < 0.0 || s < best) best = s;
+        }
+    return best;
+}
+
+/// The first image: the acceleration structure's build (add_build_table) plus one K = 1 frame of
+/// primary and shadow rays, rtt against Embree with its HIGH and its MEDIUM build (each with the
+/// fastest of its modes), per scene and thread count.
+void add_first_image_table(const BenchConfig& config, ExperimentResult& r) {
+    if (!r.extra.contains("builds") || !has_tracer("embree")) return;
+    TextTable t;
+    t.title =
+        "First image (seconds): build (wall) + one K=1 frame of primary and shadow rays "
+        "(the tables' clock), rtt beside Embree's fastest mode with each build";
+    t.header = {"scene",       "threads",       "rtt: kd-tree + frame",
+                "Embree HIGH", "Embree MEDIUM", "MEDIUM / rtt"};
+    nlohmann::json json = nlohmann::json::array();
+    for (const auto& b : r.extra["builds"]) {
+        const std::string scene = b["scene"];
+        const int threads = b["threads"];
+        const auto m = std::find_if(r.measurements.begin(), r.measurements.end(), [&](auto& x) {
+            return x.scene == scene && x.threads == threads && x.aa == 1;
+        });
+        if (m == r.measurements.end() || !m->find("rtt")) continue;
+        const ClockKind clock = table_clock(config, threads);
+        const double rtt = double(b["kdtree_s"]) + fastest_frame(*m, {"rtt"}, clock);
+        const double high = double(b["embree_bvh_s"]) +
+                            fastest_frame(*m, {"embree", "embree-stream", "embree1"}, clock);
+        const double medium =
+            double(b["embree_bvh_medium_s"]) +
+            fastest_frame(*m, {"embree-medium", "embree-stream-medium", "embree1-medium"}, clock);
+        t.rows.push_back({scene, std::to_string(threads), format_fixed(rtt, 3),
+                          format_fixed(high, 3), format_fixed(medium, 3),
+                          format_ratio(medium / rtt)});
+        r.findings.push_back(scene + ", " + std::to_string(threads) +
+                             " thread(s): first image (build + K=1 frame) rtt " +
+                             format_fixed(rtt, 3) + " s, Embree MEDIUM " + format_fixed(medium, 3) +
+                             " s: rtt at " + format_ratio(medium / rtt) + " of its speed");
+        json.push_back({{"scene", scene},
+                        {"threads", threads},
+                        {"rtt_s", rtt},
+                        {"embree_high_s", high},
+                        {"embree_medium_s", medium}});
+    }
+    print_table(config.log, t);
+    r.tables.push_back(t);
+    r.extra["first_image"] = json;
+}
+
 }  // namespace
 
 ExperimentResult run_embree(const BenchConfig& config, SceneCache& scenes) {
@@ -111,6 +167,7 @@ ExperimentResult run_embree(const BenchConfig& config, SceneCache& scenes) {
         }
 
     add_build_table(config, scenes, r);
+    add_first_image_table(config, r);
 
     // Where rtt stands against Embree at its best, the fastest mode of each cell (the project's
     // ambition: faster on primary and shadow rays of room and office).
