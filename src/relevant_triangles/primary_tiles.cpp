@@ -50,15 +50,13 @@ const Bvh<bvh_width>& RttTracer::bvh() const {
 
 void RttTracer::intersect_arbitrary(std::span<const Ray> rays, std::span<Hit> hits,
                                     TraceStats* stats) const {
-    const Bvh<bvh_width>& b = bvh();
-    for (size_t i = 0; i < rays.size(); ++i) hits[i] = trace_bvh(b, rays[i]);
+    trace_bvh_rays(bvh(), rays, hits);
     record_traced_tile(rays.size(), stats, {});
 }
 
 void RttTracer::visible_arbitrary(std::span<const Ray> rays, std::span<uint8_t> visible,
                                   TraceStats* stats) const {
-    const Bvh<bvh_width>& b = bvh();
-    for (size_t i = 0; i < rays.size(); ++i) visible[i] = !occluded_bvh(b, rays[i]);
+    visible_bvh_rays(bvh(), rays, visible);
     record_traced_tile(rays.size(), stats, {});
 }
 

@@ -49,10 +49,6 @@ bool too_large(int ok, int width, int height) {
 
 }  // namespace
 
-float srgb_to_linear(uint8_t v) {
-    return srgb_table()[v];
-}
-
 Vec3f mean_texel_colour(const uint8_t* rgba, size_t count) {
     if (count == 0) return Vec3f{0.f};
     const std::array<float, 256>& lin = srgb_table();

@@ -12,9 +12,6 @@
 
 namespace rtt::detail {
 
-/// Linear value of an 8-bit sRGB-encoded channel.
-float srgb_to_linear(uint8_t v);
-
 /// The mean linear colour of the image file at `path`, or nothing when it cannot be decoded.
 std::optional<Vec3f> mean_image_colour(const std::string& path);
 

@@ -223,14 +223,13 @@ public:
 
     void intersect_arbitrary(std::span<const Ray> rays, std::span<Hit> hits,
                              TraceStats* stats) const override {
-        for (size_t i = 0; i < rays.size(); ++i) hits[i] = traverse<W, false>(bvh_, rays[i]);
+        trace_bvh_rays(bvh_, rays, hits);
         record_traced_tile(rays.size(), stats, {});
     }
 
     void visible_arbitrary(std::span<const Ray> rays, std::span<uint8_t> visible,
                            TraceStats* stats) const override {
-        for (size_t i = 0; i < rays.size(); ++i)
-            visible[i] = !traverse<W, true>(bvh_, rays[i]).valid();
+        visible_bvh_rays(bvh_, rays, visible);
         record_traced_tile(rays.size(), stats, {});
     }
 
@@ -250,11 +249,24 @@ bool occluded_bvh(const Bvh<W>& bvh, const Ray& ray) {
     return traverse<W, true>(bvh, ray).valid();
 }
 
-template Hit trace_bvh<4>(const Bvh<4>&, const Ray&);
-template bool occluded_bvh<4>(const Bvh<4>&, const Ray&);
+template <int W>
+void trace_bvh_rays(const Bvh<W>& bvh, std::span<const Ray> rays, std::span<Hit> hits) {
+    for (size_t i = 0; i < rays.size(); ++i) hits[i] = traverse<W, false>(bvh, rays[i]);
+}
+
+template <int W>
+void visible_bvh_rays(const Bvh<W>& bvh, std::span<const Ray> rays, std::span<uint8_t> visible) {
+    for (size_t i = 0; i < rays.size(); ++i) visible[i] = !traverse<W, true>(bvh, rays[i]).valid();
+}
+
+#define RTT_INSTANTIATE_BVH(W)                                                            \
+    template Hit trace_bvh<W>(const Bvh<W>&, const Ray&);                                 \
+    template bool occluded_bvh<W>(const Bvh<W>&, const Ray&);                             \
+    template void trace_bvh_rays<W>(const Bvh<W>&, std::span<const Ray>, std::span<Hit>); \
+    template void visible_bvh_rays<W>(const Bvh<W>&, std::span<const Ray>, std::span<uint8_t>);
+RTT_INSTANTIATE_BVH(4)
 #ifdef RTT_HAVE_SIMD8
-template Hit trace_bvh<8>(const Bvh<8>&, const Ray&);
-template bool occluded_bvh<8>(const Bvh<8>&, const Ray&);
+RTT_INSTANTIATE_BVH(8)
 #endif
 
 std::unique_ptr<Tracer> make_bvh_tracer(const Scene& scene) {

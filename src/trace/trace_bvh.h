@@ -2,6 +2,9 @@
 // and callers holding a Bvh.
 #pragma once
 
+#include <cstdint>
+#include <span>
+
 #include "bvh/bvh.h"
 #include "simd/isa.h"
 #include "simd/simd.h"
@@ -19,6 +22,14 @@ Hit trace_bvh(const Bvh<W>& bvh, const Ray& ray);
 /// Whether some triangle meets `ray` in [tmin, tmax] (occluded_ray's answer).
 template <int W>
 bool occluded_bvh(const Bvh<W>& bvh, const Ray& ray);
+
+/// trace_bvh for each ray: hits[i] for rays[i] (spans of equal size).
+template <int W>
+void trace_bvh_rays(const Bvh<W>& bvh, std::span<const Ray> rays, std::span<Hit> hits);
+
+/// visible[i] = !occluded_bvh(rays[i]).
+template <int W>
+void visible_bvh_rays(const Bvh<W>& bvh, std::span<const Ray> rays, std::span<uint8_t> visible);
 
 }  // namespace RTT_ISA_NS
 }  // namespace rtt
