@@ -8,7 +8,6 @@
 #include "trace/kernels.h"
 #include "trace/packet_blocks.h"
 #include "trace/root_clip.h"
-#include "trace/shadow_frustum.h"
 #include "trace/trace_frustum.h"
 #include "trace/trace_ray.h"
 #include "trace/traced_tile.h"
@@ -372,8 +371,7 @@ public:
 
     void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
                   std::span<SampleAnswer> answers) const override {
-        const uint64_t n = frustum_ ? occluded_frustum(tree_, triangles_, tile, visible)
-                                    : occluded_tile_packets<K>(tree_, triangles_, tile, visible);
+        const uint64_t n = occluded_tile_packets<K>(tree_, triangles_, tile, visible);
         record_traced_tile(n, stats, answers);
     }
 
