@@ -85,13 +85,13 @@ struct Scene {
                   uint32_t material, std::span<const Vec3f> normals = {});
 
     /// A scene of one mesh from arrays in memory, no file involved: a grey material, no lights,
-    /// no camera. Validated: throws rtt::Error for no triangles, an index out of range or a NaN
+    /// no camera. Validated: throws rtt::Error for an index out of range or a NaN
     /// or infinite coordinate.
     static Scene from_mesh(std::span<const Vec3f> vertices,
                            std::span<const TriangleIndices> triangles, std::string name = "mesh");
 };
 
-/// Throws rtt::Error when the scene cannot be rendered: no triangles, indices out of range,
+/// Throws rtt::Error when the scene cannot be rendered: indices out of range,
 /// NaN or infinite coordinates, material indices out of range, more than 32 lights, NaN or
 /// out-of-range material, light or camera values (negative colours, mirror outside [0, 1],
 /// spot angles not 0 <= inner <= outer <= 180, fovy outside (0, 180)).

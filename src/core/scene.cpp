@@ -62,7 +62,6 @@ Scene Scene::from_mesh(std::span<const Vec3f> verts, std::span<const TriangleInd
 
 void validate(const Scene& scene) {
     const std::string where = scene.name.empty() ? "scene" : scene.name;
-    if (scene.triangles.empty()) throw Error(where + ": no triangles");
     if (scene.triangle_material.size() != scene.triangles.size())
         throw Error(where + ": one material index per triangle expected");
     if (scene.materials.empty()) throw Error(where + ": no materials");

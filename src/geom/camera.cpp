@@ -87,7 +87,9 @@ void CameraRays::region_rays(int tx, int ty, int cols, int rows, std::span<Ray> 
     camera_rays(tile(tx, ty), w, h, out);
 }
 
-Camera default_camera_for(const Bbox3f& box, float fovy_deg) {
+Camera default_camera_for(const Bbox3f& scene_box, float fovy_deg) {
+    // An empty scene is framed as the cube [-1, 1]^3.
+    const Bbox3f box = scene_box.empty() ? Bbox3f{Vec3f{-1.f}, Vec3f{1.f}} : scene_box;
     const Vec3f c = box.center();
     const Vec3f d = box.diagonal();
     float radius = 0.5f * length(d);

@@ -70,18 +70,15 @@ void drop_non_finite_triangles(Scene& scene, const std::string& path) {
             scene.triangle_material[kept] = scene.triangle_material[i];
         ++kept;
     }
-    if (kept == 0)
-        throw Error(
-            path, 0,
-            "no triangles (all " + std::to_string(before) + " lie on NaN or infinite vertices)");
     scene.triangles.resize(kept);
     scene.triangle_material.resize(std::min(scene.triangle_material.size(), kept));
-    const Vec3f used = scene.vertices[scene.triangles[0][0]];
+    // The bad vertices stay (indices keep their meaning), moved to a finite point.
+    const Vec3f used = kept ? scene.vertices[scene.triangles[0][0]] : Vec3f{0.f};
     for (size_t v = 0; v < scene.vertices.size(); ++v)
         if (bad[v]) scene.vertices[v] = used;
     scene.warn(path + ": " + std::to_string(bad_count) +
                " vertices with a NaN or infinite coordinate; the " + std::to_string(before - kept) +
-               " triangles on them dropped");
+               " triangles on them dropped" + (kept ? "" : ": nothing is left to render"));
 }
 
 }  // namespace

@@ -234,7 +234,8 @@ void run_viewer(const ViewerOptions& o) {
     cli::print_warnings(loaded.scene);
     Scene& scene = loaded.scene;
     const Bbox3f bounds = scene.bounds();
-    OrbitCamera camera(cli::starting_camera(loaded, given), length(bounds.hi - bounds.lo));
+    OrbitCamera camera(cli::starting_camera(loaded, given),
+                       bounds.empty() ? 2.f : length(bounds.hi - bounds.lo));
     const bool lit_from_eye = cli::set_up_lights(scene, light_positions, camera.camera().position);
     validate(scene);
     const KdTree tree = [&] {
