@@ -58,7 +58,8 @@ void mark_answered(Frame& f) {
         for (size_t t = 0; t < band.tile_count(); ++t) {
             const size_t m = band.tile_size(t);
             answers.assign(m, SampleAnswer::traced);
-            rtt->intersect(band.ray_tile(t), std::span(hits).first(m), nullptr, answers);
+            rtt->intersect(band.ray_tile(t), std::span(hits).first(m),
+                           TraceContext{.answers = answers});
             tiles[t] = any_answered();
         }
         std::vector<uint8_t>& jobs = f.job_answered.emplace_back(band.shadow_jobs.size());
@@ -67,7 +68,7 @@ void mark_answered(Frame& f) {
             const size_t m = band.tile_size(job.tile);
             answers.assign(m, SampleAnswer::traced);
             rtt->occluded(band.segment_tile(job, lights[job.light].position),
-                          std::span(visible).first(m), nullptr, answers);
+                          std::span(visible).first(m), TraceContext{.answers = answers});
             jobs[j] = any_answered();
         }
     }

@@ -35,7 +35,7 @@ int main(int argc, char** argv) try {
     std::printf("%s: %zu triangles, %llu primary rays (%llu answered by RTT) -> %s\n",
                 source.c_str(), scene.triangle_count(),
                 (unsigned long long)image.stats.primary.trace.rays,
-                (unsigned long long)image.stats.primary.trace.answered, out.c_str());
+                (unsigned long long)image.stats.primary.rtt.answered, out.c_str());
     return 0;
 } catch (const std::exception& e) {
     std::fprintf(stderr, "render_image: %s\n", e.what());

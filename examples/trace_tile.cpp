@@ -2,6 +2,7 @@
 // RTT as a shaft: the smallest complete use of rtt::core.
 #include <rtt/camera.h>
 #include <rtt/kdtree.h>
+#include <rtt/rtt_options.h>
 #include <rtt/tracer.h>
 
 #include <cstdio>
@@ -29,8 +30,10 @@ int main() {
     std::vector<rtt::Ray> rays(16);
     rays_of.tile_rays(8, 6, rays);
     std::vector<rtt::Hit> hits(rays.size());
+    // Counters are optional: every tracer's in TraceStats, RTT's own in RttStats.
     rtt::TraceStats stats;
-    tracer->intersect(rtt::RayTile{4, 4, rays, true}, hits, &stats);
+    rtt::RttStats rtt_stats;
+    tracer->intersect(rtt::RayTile{4, 4, rays, true}, hits, {&stats, &rtt_stats});
 
     for (int y = 0; y < 4; ++y) {
         for (int x = 0; x < 4; ++x) {
@@ -44,7 +47,7 @@ int main() {
     }
     std::printf("%llu rays: %llu traced, %llu answered from a relevant list of %llu triangles\n",
                 (unsigned long long)stats.rays, (unsigned long long)stats.traced,
-                (unsigned long long)stats.answered, (unsigned long long)stats.relevant_sum);
+                (unsigned long long)rtt_stats.answered, (unsigned long long)rtt_stats.relevant_sum);
     // Every ray of this tile sees the quad (triangles 2 and 3).
     for (const rtt::Hit& h : hits)
         if (h.tri != 2 && h.tri != 3) return 1;

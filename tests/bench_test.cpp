@@ -145,7 +145,7 @@ TEST(BenchMeasure, EveryTracerAnswersTheSameRaysAndAgrees) {
             EXPECT_EQ(t.primary.rays, m.primary_rays);
             EXPECT_EQ(t.primary.stats.rays, m.primary_rays);
             EXPECT_EQ(t.shadow.stats.rays, m.shadow_rays);
-            EXPECT_EQ(t.primary.stats.traced + t.primary.stats.answered, m.primary_rays);
+            EXPECT_EQ(t.primary.stats.traced + t.primary.rtt.answered, m.primary_rays);
             EXPECT_EQ(t.primary.reps.size(), 3u);
             EXPECT_GE(t.primary.time.wall, 0.0);
             if (t.exact) {
@@ -217,8 +217,8 @@ TEST(BenchReport, ExperimentsComeBackFromTheirJsonUnchanged) {
     const nlohmann::json j = experiment_json(e);
     const ExperimentResult back = experiment_from_json(nlohmann::json::parse(j.dump()));
     EXPECT_EQ(experiment_json(back), j);
-    EXPECT_EQ(back.measurements.at(0).tracers.at(1).primary.stats.answered,
-              e.measurements.at(0).tracers.at(1).primary.stats.answered);
+    EXPECT_EQ(back.measurements.at(0).tracers.at(1).primary.rtt.answered,
+              e.measurements.at(0).tracers.at(1).primary.rtt.answered);
     EXPECT_THROW(experiment_from_json(nlohmann::json::parse("{\"id\": \"x\"}")),
                  nlohmann::json::exception);
 }

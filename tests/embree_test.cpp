@@ -365,7 +365,7 @@ TEST(Embree, PartialBlocksAndInactiveLanes) {
         const std::unique_ptr<Tracer> t = make_tracer(kind, scene, no_tree);
         std::vector<Hit> hits(rays.size(), Hit{0.f, 12345});
         TraceStats stats;
-        t->intersect(RayTile{w, h, rays, false}, hits, &stats);
+        t->intersect(RayTile{w, h, rays, false}, hits, TraceContext{&stats});
         EXPECT_EQ(stats.tiles, 1u);
         EXPECT_EQ(stats.rays, rays.size());
         std::vector<Vec3f> points;
@@ -385,7 +385,7 @@ TEST(Embree, PartialBlocksAndInactiveLanes) {
         points[2].z = -1.f;  // below: the segment from the light crosses the grid
         std::vector<uint8_t> visible(rays.size(), 7);
         t->occluded(SegmentTile{w, h, Vec3f{0.1f, 0.2f, 3.f}, points, ids, active, false}, visible,
-                    &stats);
+                    TraceContext{&stats});
         EXPECT_EQ(stats.rays, rays.size() + size_t(std::count(active.begin(), active.end(), 1)));
         for (size_t i = 0; i < rays.size(); ++i)
             EXPECT_EQ(visible[i], active[i] && points[i].z >= 0.f) << kind << " segment " << i;

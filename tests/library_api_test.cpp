@@ -184,7 +184,7 @@ TEST(LibraryApi, RttOptionsChangeTheWorkNeverTheAnswers) {
     std::vector<uint64_t> answered;
     for (const RttOptions& options : configs) {
         const auto rtt = make_rtt_tracer(scene, tree, options);
-        TraceStats stats;
+        RttStats stats;
         size_t mismatches = 0;
         for (int aa : {1, 2, 4}) {
             const CameraRays rays(camera, 96, 64, aa);
@@ -193,7 +193,8 @@ TEST(LibraryApi, RttOptionsChangeTheWorkNeverTheAnswers) {
                     const std::vector<Ray> tile = differential::primary_tile(rays, tx, ty);
                     const int side = 4 * aa;
                     std::vector<Hit> got(tile.size()), want(tile.size());
-                    rtt->intersect(RayTile{side, side, tile, true}, got, &stats);
+                    rtt->intersect(RayTile{side, side, tile, true}, got,
+                                   TraceContext{.rtt = &stats});
                     reference->intersect(RayTile{side, side, tile, true}, want);
                     for (size_t i = 0; i < tile.size(); ++i) mismatches += !(got[i] == want[i]);
                 }

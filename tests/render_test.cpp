@@ -199,8 +199,8 @@ public:
     explicit SpyTracer(const Tracer& inner) : inner_(inner) {}
     std::string_view name() const override { return "spy"; }
 
-    void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
-                   std::span<SampleAnswer> answers) const override {
+    void intersect(const RayTile& tile, std::span<Hit> hits,
+                   const TraceContext& context) const override {
         std::lock_guard<std::mutex> lock(mutex_);
         if (tile.rays.size() != size_t(tile.width) * size_t(tile.height)) ++bad_shapes;
         for (const Ray& r : tile.rays)
@@ -212,7 +212,7 @@ public:
             ++packed_tiles;
             if (tile.height != 1) ++bad_shapes;
         }
-        inner_.intersect(tile, hits, stats, answers);
+        inner_.intersect(tile, hits, context);
         // A reflected shaft tile (tmin > 0) comes off the planar mirror; it must not find the
         // mirror itself again.
         if (tile.shaft && tile.rays[0].tmin > 0.f) {
@@ -223,9 +223,9 @@ public:
         }
     }
 
-    void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
-                  std::span<SampleAnswer> answers) const override {
-        inner_.occluded(tile, visible, stats, answers);
+    void occluded(const SegmentTile& tile, std::span<uint8_t> visible,
+                  const TraceContext& context) const override {
+        inner_.occluded(tile, visible, context);
     }
 
     mutable std::mutex mutex_;
@@ -339,7 +339,7 @@ TEST(Render, BandsInAnyOrderAssembleTheSameImage) {
         0);
     EXPECT_EQ(stats.rays_by_depth, whole.stats.rays_by_depth);
     EXPECT_EQ(stats.primary.trace.rays, whole.stats.primary.trace.rays);
-    EXPECT_EQ(stats.shadow.trace.answered, whole.stats.shadow.trace.answered);
+    EXPECT_EQ(stats.shadow.rtt.answered, whole.stats.shadow.rtt.answered);
     // A band outside the image is refused.
     EXPECT_THROW(render_bands(
                      f.scene, *f.tracer, o,

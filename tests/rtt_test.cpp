@@ -137,11 +137,12 @@ struct Differ {
                 const int cell = r > 1 ? 4 * k : 0;
                 const RayTile tile{sw, sh, rays, true, cell};
                 TraceStats st;
-                rtt->intersect(tile, got, &st, answers);
+                RttStats rs;
+                rtt->intersect(tile, got, TraceContext{&st, &rs, answers});
                 reference->intersect(tile, want);
                 tally.rays += ns;
                 EXPECT_EQ(st.rays, uint64_t(n));
-                EXPECT_EQ(st.traced + st.answered, st.rays);
+                EXPECT_EQ(st.traced + rs.answered, st.rays);
                 for (size_t i = 0; i < ns; ++i) {
                     if (!same_hit(got[i], want[i])) {
                         if (tally.mismatches < 5)
@@ -167,9 +168,10 @@ struct Differ {
                             active[i] = want[i].valid() && (spot == 0 || rng() % 4 != 0);
                         const SegmentTile seg{sw, sh, lights[l], points, tris, active, true, cell};
                         TraceStats ss;
-                        rtt->occluded(seg, vis_got, &ss, answers);
+                        RttStats rss;
+                        rtt->occluded(seg, vis_got, TraceContext{&ss, &rss, answers});
                         reference->occluded(seg, vis_want);
-                        EXPECT_EQ(ss.traced + ss.answered, ss.rays);
+                        EXPECT_EQ(ss.traced + rss.answered, ss.rays);
                         for (size_t i = 0; i < ns; ++i) {
                             if (!active[i]) {
                                 EXPECT_EQ(vis_got[i], 0);
@@ -352,7 +354,7 @@ TEST(Rtt, GridsOfAnySizeMatchBruteForce) {
                                            pos_inf});
                     }
                 const RayTile tile{w, h, grid, true};
-                rtt->intersect(tile, got, nullptr, how);
+                rtt->intersect(tile, got, TraceContext{.answers = how});
                 ref->intersect(tile, want);
                 for (size_t i = 0; i < n; ++i) {
                     ++rays;
@@ -363,7 +365,7 @@ TEST(Rtt, GridsOfAnySizeMatchBruteForce) {
                     tris[i] = want[i].tri;
                 }
                 const SegmentTile seg{w, h, light, points, tris, active, true};
-                rtt->occluded(seg, vis_got, nullptr, how);
+                rtt->occluded(seg, vis_got, TraceContext{.answers = how});
                 ref->occluded(seg, vis_want);
                 for (size_t i = 0; i < n; ++i) {
                     if (!active[i]) {
@@ -471,16 +473,15 @@ TEST(Rtt, RenderWithMirrorsMatchesReference) {
             "[  rtt     ] mirrors, aa %d: secondary rays %llu answered %llu, mismatches hits %llu "
             "shadows %llu pixels %llu\n",
             aa, (unsigned long long)a.stats.secondary.trace.rays,
-            (unsigned long long)a.stats.secondary.trace.answered,
-            (unsigned long long)hit_mismatches, (unsigned long long)shadow_mismatches,
-            (unsigned long long)pixel_mismatches);
+            (unsigned long long)a.stats.secondary.rtt.answered, (unsigned long long)hit_mismatches,
+            (unsigned long long)shadow_mismatches, (unsigned long long)pixel_mismatches);
         EXPECT_EQ(hit_mismatches, 0u);
         EXPECT_EQ(shadow_mismatches, 0u);
         EXPECT_EQ(pixel_mismatches, 0u);
         if (aa >= 2) {  // reflected shafts answered by RTT (at K = 1 their corners rarely agree)
-            EXPECT_GT(a.stats.secondary.trace.answered, 0u);
+            EXPECT_GT(a.stats.secondary.rtt.answered, 0u);
         }
-        EXPECT_GT(a.stats.primary.trace.answered, 0u);
+        EXPECT_GT(a.stats.primary.rtt.answered, 0u);
     }
 }
 
@@ -670,25 +671,25 @@ TEST(Rtt, DeclinedTilesAddUpWithAnsweredOnes) {
             const RenderStats s = render(scene, *tracer, o).stats;
             SCOPED_TRACE(std::string(kind) + ", K = " + std::to_string(aa));
             // Camera and mirror tiles always have rays to answer.
-            for (const TraceStats* t : {&s.primary.trace, &s.secondary.trace})
-                EXPECT_EQ(t->tiles, t->rtt_tiles + t->declined());
+            for (const KindStats* k : {&s.primary, &s.secondary})
+                EXPECT_EQ(k->trace.tiles, k->rtt.rtt_tiles + k->rtt.declined());
             // A shadow job whose samples all lack a segment is neither.
-            const TraceStats& sh = s.shadow.trace;
-            EXPECT_LE(sh.rtt_tiles + sh.declined(), sh.tiles);
-            EXPECT_GT(sh.rtt_tiles + sh.declined(), sh.tiles * 9 / 10);
+            const RttStats& sh = s.shadow.rtt;
+            EXPECT_LE(sh.rtt_tiles + sh.declined(), s.shadow.trace.tiles);
+            EXPECT_GT(sh.rtt_tiles + sh.declined(), s.shadow.trace.tiles * 9 / 10);
             // The room's silhouettes put receivers on several planes; at K = 1 its furniture
             // makes some camera regions too costly or too incoherent to answer.
             EXPECT_GT(sh.declined_end, 0u);
             if (aa == 1) {
-                EXPECT_GT(s.primary.trace.declined(), 0u);
+                EXPECT_GT(s.primary.rtt.declined(), 0u);
             }
             // The fallback's time (declined tiles, refused rays) is measured where it runs,
             // inside the tracer's time.
             for (const KindStats* k : {&s.primary, &s.shadow}) {
-                if (k->trace.declined() > 0) {
-                    EXPECT_GT(k->trace.fallback_ns, 0u);
+                if (k->rtt.declined() > 0) {
+                    EXPECT_GT(k->rtt.fallback_ns, 0u);
                 }
-                EXPECT_LE(k->trace.fallback_seconds(), k->seconds);
+                EXPECT_LE(k->rtt.fallback_seconds(), k->seconds);
             }
         }
     }
@@ -708,7 +709,8 @@ TEST(Rtt, NonShaftTilesAreTraced) {
     std::vector<Hit> a(rays.size()), b(rays.size());
     std::vector<SampleAnswer> answers(rays.size(), SampleAnswer::answered_list);
     TraceStats st;
-    rtt->intersect(RayTile{37, 1, rays, false}, a, &st, answers);
+    RttStats rs;
+    rtt->intersect(RayTile{37, 1, rays, false}, a, TraceContext{&st, &rs, answers});
     ref->intersect(RayTile{37, 1, rays, false}, b);
     uint64_t mismatches = 0, answered = 0;
     for (size_t i = 0; i < rays.size(); ++i) {
@@ -718,8 +720,8 @@ TEST(Rtt, NonShaftTilesAreTraced) {
     EXPECT_EQ(mismatches, 0u);
     EXPECT_EQ(answered, 0u);
     EXPECT_EQ(st.traced, rays.size());
-    EXPECT_EQ(st.declined_shaft, 1u);
-    EXPECT_EQ(st.declined(), 1u);
+    EXPECT_EQ(rs.declined_shaft, 1u);
+    EXPECT_EQ(rs.declined(), 1u);
 }
 
 }  // namespace

@@ -74,8 +74,7 @@ void reduce_stats(RenderStats& s) {
     std::vector<uint64_t> counts;
     std::vector<double> seconds;
     for (KindStats* k : kinds) {
-        const TraceStats& t = k->trace;
-        const auto counters = t.counter_values();
+        const auto counters = k->counter_values();
         counts.insert(counts.end(), counters.begin(), counters.end());
         seconds.push_back(k->seconds);
     }
@@ -89,8 +88,7 @@ void reduce_stats(RenderStats& s) {
     if (world_rank != 0) return;
     size_t i = 0;
     for (int k = 0; k < 3; ++k) {
-        TraceStats& t = kinds[k]->trace;
-        for (uint64_t* field : t.counters()) *field = counts_sum[i++];
+        for (uint64_t* field : kinds[k]->counters()) *field = counts_sum[i++];
         kinds[k]->seconds = seconds_sum[size_t(k)];
     }
     for (uint64_t& d : s.rays_by_depth) d = counts_sum[i++];

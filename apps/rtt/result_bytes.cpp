@@ -64,8 +64,7 @@ std::vector<char> pack_stats(const RenderStats& s) {
     std::vector<uint64_t> counts;
     std::vector<double> values;
     for (const KindStats* k : {&s.primary, &s.shadow, &s.secondary}) {
-        const TraceStats& t = k->trace;
-        const auto counters = t.counter_values();
+        const auto counters = k->counter_values();
         counts.insert(counts.end(), counters.begin(), counters.end());
         values.push_back(k->seconds);
     }
@@ -79,15 +78,14 @@ std::vector<char> pack_stats(const RenderStats& s) {
 }
 
 void unpack_stats(const char* p, RenderStats& s) {
-    std::vector<uint64_t> counts(3 * TraceStats{}.counters().size() + s.rays_by_depth.size() + 1);
+    std::vector<uint64_t> counts(3 * KindStats{}.counters().size() + s.rays_by_depth.size() + 1);
     std::vector<double> values(4);
     take(p, counts, 0, counts.size());
     take(p, values, 0, values.size());
     size_t i = 0;
     KindStats* kinds[3] = {&s.primary, &s.shadow, &s.secondary};
     for (int k = 0; k < 3; ++k) {
-        TraceStats& t = kinds[k]->trace;
-        for (uint64_t* field : t.counters()) *field = counts[i++];
+        for (uint64_t* field : kinds[k]->counters()) *field = counts[i++];
         kinds[k]->seconds = values[size_t(k)];
     }
     for (uint64_t& d : s.rays_by_depth) d = counts[i++];

@@ -14,20 +14,21 @@ struct KindRow {
 
 nlohmann::json kind_json(const KindStats& k) {
     const TraceStats& t = k.trace;
+    const RttStats& r = k.rtt;
     nlohmann::json declined = nlohmann::json::object();
-    for (const auto& [name, field] : declined_fields) declined[name] = t.*field;
+    for (const auto& [name, field] : declined_fields) declined[name] = r.*field;
     return {{"tiles", t.tiles},
-            {"rtt_tiles", t.rtt_tiles},
+            {"rtt_tiles", r.rtt_tiles},
             {"rays", t.rays},
             {"traced", t.traced},
-            {"answered", t.answered},
-            {"relevant_sum", t.relevant_sum},
-            {"open_tiles", t.open_tiles},
-            {"empty_tiles", t.empty_tiles},
+            {"answered", r.answered},
+            {"relevant_sum", r.relevant_sum},
+            {"open_tiles", r.open_tiles},
+            {"empty_tiles", r.empty_tiles},
             {"declined", declined},
-            {"avg_relevant", t.avg_relevant()},
+            {"avg_relevant", r.avg_relevant()},
             {"seconds", k.seconds},
-            {"fallback_seconds", t.fallback_seconds()},
+            {"fallback_seconds", r.fallback_seconds()},
             {"mrays_per_second", k.mrays_per_second()}};
 }
 
@@ -66,14 +67,15 @@ void print_stats(std::FILE* out, const RenderJobResult& r) {
         {"primary", &s.primary}, {"shadow", &s.shadow}, {"secondary", &s.secondary}};
     for (const KindRow& row : rows) {
         const TraceStats& t = row.stats->trace;
+        const RttStats& r = row.stats->rtt;
         std::fprintf(out, "%-10s %9llu %9llu %12llu %12llu %12llu %9.2f %9.3f %9.2f\n", row.name,
-                     (unsigned long long)t.tiles, (unsigned long long)t.rtt_tiles,
+                     (unsigned long long)t.tiles, (unsigned long long)r.rtt_tiles,
                      (unsigned long long)t.rays, (unsigned long long)t.traced,
-                     (unsigned long long)t.answered, t.avg_relevant(), row.stats->seconds,
+                     (unsigned long long)r.answered, r.avg_relevant(), row.stats->seconds,
                      row.stats->mrays_per_second());
     }
     for (const KindRow& row : rows) {
-        const TraceStats& t = row.stats->trace;
+        const RttStats& t = row.stats->rtt;
         if (t.declined() == 0) continue;
         std::fprintf(out,
                      "%s tiles declined (traced): %llu; no shaft %llu, R without end %llu, node "
@@ -84,21 +86,21 @@ void print_stats(std::FILE* out, const RenderJobResult& r) {
                      (unsigned long long)t.declined_corners);
     }
     for (const KindRow& row : rows) {
-        const TraceStats& t = row.stats->trace;
+        const RttStats& t = row.stats->rtt;
         if (t.answered == 0 && t.fallback_ns == 0) continue;
         const double fallback = t.fallback_seconds();
         std::fprintf(out,
                      "%s time split: %.3f s in the tiles' answers, corners and walks (%llu rays "
                      "answered); %.3f s in the fallback (%llu rays traced, corners included)\n",
                      row.name, row.stats->seconds - fallback, (unsigned long long)t.answered,
-                     fallback, (unsigned long long)t.traced);
+                     fallback, (unsigned long long)row.stats->trace.traced);
     }
-    if (s.primary.trace.open_tiles)
+    if (s.primary.rtt.open_tiles)
         std::fprintf(out,
                      "primary rtt tiles without an end (a corner missed): %llu, %llu of them "
                      "empty (all miss)\n",
-                     (unsigned long long)s.primary.trace.open_tiles,
-                     (unsigned long long)s.primary.trace.empty_tiles);
+                     (unsigned long long)s.primary.rtt.open_tiles,
+                     (unsigned long long)s.primary.rtt.empty_tiles);
     print_rank_stats(out, r.ranks);
     std::fprintf(out,
                  "seconds = time inside the tracer summed over threads; Mrays/s = rays / seconds; "

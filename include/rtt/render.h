@@ -48,6 +48,7 @@
 #include <vector>
 
 #include "rtt/math.h"
+#include "rtt/rtt_options.h"
 #include "rtt/scene.h"
 #include "rtt/tracer.h"
 
@@ -104,7 +105,21 @@ struct RenderOptions {
 /// Counters and time of one kind of rays.
 struct KindStats {
     TraceStats trace;
+    RttStats rtt;        ///< Zero unless the tracer is an RTT one.
     double seconds = 0;  ///< Time inside tracer calls, summed over threads.
+    /// Every counter of both, for code that ships them all (bands, MPI ranks).
+    std::vector<uint64_t*> counters() {
+        std::vector<uint64_t*> all;
+        for (uint64_t* c : trace.counters()) all.push_back(c);
+        for (uint64_t* c : rtt.counters()) all.push_back(c);
+        return all;
+    }
+    std::vector<uint64_t> counter_values() const {
+        std::vector<uint64_t> all;
+        for (uint64_t c : trace.counter_values()) all.push_back(c);
+        for (uint64_t c : rtt.counter_values()) all.push_back(c);
+        return all;
+    }
     /// Rays asked for per second of tracer time, in millions (per-thread throughput).
     double mrays_per_second() const {
         return seconds > 0 ? double(trace.rays) / seconds * 1e-6 : 0.0;

@@ -4,14 +4,73 @@
 // "RTT exactness").
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
+#include <utility>
 
 #include "rtt/kdtree.h"
 #include "rtt/scene.h"
 #include "rtt/tracer.h"
 
 namespace rtt {
+
+/// RTT's counters (TraceContext::rtt), added up over tiles and threads: with TraceStats, the
+/// rows of the paper's Table 1 and the reasons tiles were traced rather than answered.
+struct RttStats {
+    uint64_t rtt_tiles = 0;     ///< Tiles whose inner rays RTT answered from the relevant list.
+    uint64_t answered = 0;      ///< Rays answered from a relevant list without traversal.
+    uint64_t relevant_sum = 0;  ///< Sum of relevant-list lengths over RTT tiles.
+    uint64_t open_tiles = 0;    ///< RTT tiles listed by a walk without an end (a corner missed).
+    uint64_t empty_tiles = 0;   ///< Of those, tiles whose list is empty: every accepted ray misses.
+    // Tiles traced instead of answered from a list, by the first reason met (docs/design.md,
+    // "Why a tile is declined"); with rtt_tiles they add up to the tiles that had something to
+    // answer.
+    uint64_t declined_shaft = 0;    ///< No shaft: not a shaft tile, or corners that make none.
+    uint64_t declined_end = 0;      ///< R gets no end (hits or receivers on several planes).
+    uint64_t declined_budget = 0;   ///< The walk or the deferred nodes' culling ran out of nodes.
+    uint64_t declined_list = 0;     ///< The relevant list overflowed.
+    uint64_t declined_corners = 0;  ///< The corner packet parted, or all 4 shadow corners blocked.
+    /// Nanoseconds, summed over threads, spent tracing the rays not answered (declined tiles
+    /// and refused rays); the rest of RTT's time went to answered tiles.
+    uint64_t fallback_ns = 0;
+
+    /// Every counter, for code that adds or ships them all (sums, MPI ranks).
+    std::array<uint64_t*, 11> counters() {
+        return {&rtt_tiles,     &answered,         &relevant_sum, &open_tiles,
+                &empty_tiles,   &declined_shaft,   &declined_end, &declined_budget,
+                &declined_list, &declined_corners, &fallback_ns};
+    }
+    std::array<uint64_t, 11> counter_values() const {
+        return {rtt_tiles,     answered,         relevant_sum, open_tiles,
+                empty_tiles,   declined_shaft,   declined_end, declined_budget,
+                declined_list, declined_corners, fallback_ns};
+    }
+    RttStats& operator+=(const RttStats& o) {
+        const auto values = o.counter_values();
+        const auto fields = counters();
+        for (size_t i = 0; i < fields.size(); ++i) *fields[i] += values[i];
+        return *this;
+    }
+    /// Sum of the declined_* counters.
+    uint64_t declined() const {
+        return declined_shaft + declined_end + declined_budget + declined_list + declined_corners;
+    }
+    double fallback_seconds() const { return double(fallback_ns) * 1e-9; }
+    double avg_relevant() const {
+        return rtt_tiles ? double(relevant_sum) / double(rtt_tiles) : 0.0;
+    }
+};
+
+/// RttStats' declined_* counters with their names in JSON (--stats-json, rtt bench) and
+/// Python (last_stats["declined"]).
+inline constexpr std::array<std::pair<const char*, uint64_t RttStats::*>, 5> declined_fields{{
+    {"no_shaft", &RttStats::declined_shaft},
+    {"no_end", &RttStats::declined_end},
+    {"budget", &RttStats::declined_budget},
+    {"list_full", &RttStats::declined_list},
+    {"corners_parted", &RttStats::declined_corners},
+}};
 
 /// Which procedure answers a shaft tile.
 enum class RttRules : uint8_t {

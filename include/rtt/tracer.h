@@ -57,82 +57,25 @@ struct SegmentTile {
     int cell = 0;                         ///< As RayTile::cell.
 };
 
-/// Per-kind counters, the rows of the paper's Table 1. Added up over tiles and threads.
+/// Counters every tracer keeps, added up over tiles and threads. RTT's own counters (rays
+/// answered from lists, why tiles were declined) are RttStats (rtt/rtt_options.h).
 struct TraceStats {
-    uint64_t tiles = 0;         ///< Tiles handed to the tracer.
-    uint64_t rtt_tiles = 0;     ///< Tiles whose inner rays RTT answered from the relevant list.
-    uint64_t rays = 0;          ///< Rays (or active segments) asked for.
-    uint64_t traced = 0;        ///< Rays traversed through the kd-tree (RTT: corners + fallbacks).
-    uint64_t answered = 0;      ///< Rays answered from a relevant list without traversal.
-    uint64_t relevant_sum = 0;  ///< Sum of relevant-list lengths over RTT tiles.
-    uint64_t open_tiles = 0;    ///< RTT tiles listed by a walk without an end (a corner missed).
-    uint64_t empty_tiles = 0;   ///< Of those, tiles whose list is empty: every accepted ray misses.
-    // Tiles the RTT tracers traced instead of answering from a list, by the first reason met
-    // (docs/design.md, "Why a tile is declined"); with rtt_tiles they add up to the tiles that
-    // had something to answer.
-    uint64_t declined_shaft = 0;    ///< No shaft: not a shaft tile, or corners that make none.
-    uint64_t declined_end = 0;      ///< R gets no end (hits or receivers on several planes).
-    uint64_t declined_budget = 0;   ///< The walk or the deferred nodes' culling ran out of nodes.
-    uint64_t declined_list = 0;     ///< The relevant list overflowed.
-    uint64_t declined_corners = 0;  ///< The corner packet parted, or all 4 shadow corners blocked.
-    /// Nanoseconds, summed over threads, the RTT tracers spent tracing the rays they did not
-    /// answer (declined tiles and refused rays); the rest of their time went to answered tiles.
-    uint64_t fallback_ns = 0;
+    uint64_t tiles = 0;   ///< Tiles handed to the tracer.
+    uint64_t rays = 0;    ///< Rays (or active segments) asked for.
+    uint64_t traced = 0;  ///< Rays traversed through the tracer's structure (RTT: not answered).
 
-    /// Every counter above, for code that adds or ships them all (sums, MPI ranks).
-    std::array<uint64_t*, 14> counters() {
-        return {&tiles,
-                &rtt_tiles,
-                &rays,
-                &traced,
-                &answered,
-                &relevant_sum,
-                &open_tiles,
-                &empty_tiles,
-                &declined_shaft,
-                &declined_end,
-                &declined_budget,
-                &declined_list,
-                &declined_corners,
-                &fallback_ns};
-    }
-    std::array<uint64_t, 14> counter_values() const {
-        return {tiles,
-                rtt_tiles,
-                rays,
-                traced,
-                answered,
-                relevant_sum,
-                open_tiles,
-                empty_tiles,
-                declined_shaft,
-                declined_end,
-                declined_budget,
-                declined_list,
-                declined_corners,
-                fallback_ns};
-    }
-    /// Sum of the declined_* counters.
-    uint64_t declined() const {
-        return declined_shaft + declined_end + declined_budget + declined_list + declined_corners;
-    }
-
-    TraceStats& operator+=(const TraceStats& o);
-    double fallback_seconds() const { return double(fallback_ns) * 1e-9; }
-    double avg_relevant() const {
-        return rtt_tiles ? double(relevant_sum) / double(rtt_tiles) : 0.0;
+    /// Every counter, for code that adds or ships them all (sums, MPI ranks).
+    std::array<uint64_t*, 3> counters() { return {&tiles, &rays, &traced}; }
+    std::array<uint64_t, 3> counter_values() const { return {tiles, rays, traced}; }
+    TraceStats& operator+=(const TraceStats& o) {
+        tiles += o.tiles;
+        rays += o.rays;
+        traced += o.traced;
+        return *this;
     }
 };
 
-/// TraceStats' declined_* counters with their names in JSON (--stats-json, rtt bench) and
-/// Python (last_stats["declined"]).
-inline constexpr std::array<std::pair<const char*, uint64_t TraceStats::*>, 5> declined_fields{{
-    {"no_shaft", &TraceStats::declined_shaft},
-    {"no_end", &TraceStats::declined_end},
-    {"budget", &TraceStats::declined_budget},
-    {"list_full", &TraceStats::declined_list},
-    {"corners_parted", &TraceStats::declined_corners},
-}};
+struct RttStats;
 
 /// How a sample was answered, for the paper's Figure 5 maps.
 enum class SampleAnswer : uint8_t {
@@ -141,23 +84,30 @@ enum class SampleAnswer : uint8_t {
     answered_list = 2,   ///< RTT, tested against a non-empty relevant list.
 };
 
+/// What a caller may ask of a tile's tracing besides the answers, all optional (Embree's
+/// context argument plays this part): counters to add to, and how each sample was answered.
+struct TraceContext {
+    TraceStats* stats = nullptr;  ///< Added to: the tile's counters.
+    RttStats* rtt = nullptr;      ///< Added to by the RTT tracers; others leave it.
+    /// One entry per ray (segment) of the tile: how it was answered (Figure 5); empty: none.
+    std::span<SampleAnswer> answers;
+};
+
 class Tracer {
 public:
     virtual ~Tracer() = default;
     virtual std::string_view name() const = 0;
 
     /// Closest hit of every ray: hits[i] for tile.rays[i]; t and the triangle index, or a miss.
-    /// Thread-safe: tiles may be traced concurrently. `answers` (optional) receives one
-    /// SampleAnswer per ray.
-    virtual void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats = nullptr,
-                           std::span<SampleAnswer> answers = {}) const = 0;
+    /// Thread-safe: tiles may be traced concurrently.
+    virtual void intersect(const RayTile& tile, std::span<Hit> hits,
+                           const TraceContext& context = {}) const = 0;
 
     /// Visibility of every active segment: visible[i] = 1 when no triangle meets
     /// shadow_ray(tile.light, tile.points[i]) in its parameter range, else 0 (also 0 when
     /// inactive).
     virtual void occluded(const SegmentTile& tile, std::span<uint8_t> visible,
-                          TraceStats* stats = nullptr,
-                          std::span<SampleAnswer> answers = {}) const = 0;
+                          const TraceContext& context = {}) const = 0;
 
     /// Closest hits of rays without a tile shape (any origins, directions and intervals, the
     /// spans of equal size): hits[i] for rays[i]. intersect_rays() calls it on chunks of its

@@ -38,6 +38,7 @@ private:
 /// Statistics of the last call on a tracer (any thread's).
 struct CallStats {
     TraceStats trace;
+    RttStats rtt;  ///< Zero for arbitrary rays and for tracers other than RTT's.
     double seconds = 0;
 };
 
@@ -61,7 +62,7 @@ public:
     CallStats last_stats() const;
 
 private:
-    void record(const TraceStats& stats, double seconds);
+    void record(const TraceStats& stats, const RttStats& rtt, double seconds);
 
     std::shared_ptr<BoundScene> scene_;
     std::string kind_;

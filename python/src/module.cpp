@@ -63,12 +63,13 @@ std::shared_ptr<BoundScene> load(const std::string& source, bool strict) {
 
 py::dict stats_dict(const CallStats& s) {
     const TraceStats& t = s.trace;
+    const RttStats& r = s.rtt;
     py::dict declined;
-    for (const auto& [name, field] : declined_fields) declined[name] = t.*field;
-    return py::dict("rays"_a = t.rays, "traced"_a = t.traced, "answered"_a = t.answered,
-                    "tiles"_a = t.tiles, "rtt_tiles"_a = t.rtt_tiles, "declined"_a = declined,
-                    "avg_list"_a = t.avg_relevant(), "seconds"_a = s.seconds,
-                    "fallback_seconds"_a = t.fallback_seconds());
+    for (const auto& [name, field] : declined_fields) declined[name] = r.*field;
+    return py::dict("rays"_a = t.rays, "traced"_a = t.traced, "answered"_a = r.answered,
+                    "tiles"_a = t.tiles, "rtt_tiles"_a = r.rtt_tiles, "declined"_a = declined,
+                    "avg_list"_a = r.avg_relevant(), "seconds"_a = s.seconds,
+                    "fallback_seconds"_a = r.fallback_seconds());
 }
 
 /// (t, tri) arrays of the given shape from hits: t = inf and tri = -1 on a miss.

@@ -83,8 +83,8 @@ FrameCosts answered_costs(const BenchConfig& config, const BenchScene& scene, in
         std::vector<size_t> tiles, jobs;
         for (size_t t = 0; t < band.tile_count(); ++t) {
             const size_t m = band.tile_size(t);
-            rtt->intersect(band.ray_tile(t), std::span(hits).first(m), nullptr,
-                           std::span(answers).first(m));
+            rtt->intersect(band.ray_tile(t), std::span(hits).first(m),
+                           TraceContext{.answers = std::span(answers).first(m)});
             if (const uint64_t a = count_answered(m)) {
                 tiles.push_back(t);
                 out.primary.answered += a;
@@ -94,7 +94,8 @@ FrameCosts answered_costs(const BenchConfig& config, const BenchScene& scene, in
             const ShadowJob& job = band.shadow_jobs[j];
             const size_t m = band.tile_size(job.tile);
             rtt->occluded(band.segment_tile(job, lights[job.light].position),
-                          std::span(visible).first(m), nullptr, std::span(answers).first(m));
+                          std::span(visible).first(m),
+                          TraceContext{.answers = std::span(answers).first(m)});
             if (const uint64_t a = count_answered(m)) {
                 jobs.push_back(j);
                 out.shadow.answered += a;

@@ -62,8 +62,8 @@ ExperimentResult run_fig5(const BenchConfig& config, SceneCache& scenes) {
     }
     for (const std::string& f : r.files) std::fprintf(config.log, "  wrote %s\n", f.c_str());
 
-    const TraceStats& p = result.stats.primary.trace;
-    const TraceStats& s = result.stats.shadow.trace;
+    const KindStats& p = result.stats.primary;
+    const KindStats& s = result.stats.shadow;
     auto percent = [](uint64_t part, uint64_t whole) {
         return whole ? format_fixed(100.0 * double(part) / double(whole), 1) + " %"
                      : std::string("-");
@@ -72,18 +72,18 @@ ExperimentResult run_fig5(const BenchConfig& config, SceneCache& scenes) {
     t.title = "Figure 5 (office, " + size_label(w, h) +
               ", all lights): rays RTT answered without traversal";
     t.header = {"rays", "asked", "answered by RTT", "traced", "avg relevant"};
-    t.rows.push_back({"primary", format_count(p.rays), percent(p.answered, p.rays),
-                      format_count(p.traced), format_fixed(p.avg_relevant(), 3)});
-    t.rows.push_back({"shadow", format_count(s.rays), percent(s.answered, s.rays),
-                      format_count(s.traced), format_fixed(s.avg_relevant(), 3)});
+    t.rows.push_back({"primary", format_count(p.trace.rays), percent(p.rtt.answered, p.trace.rays),
+                      format_count(p.trace.traced), format_fixed(p.rtt.avg_relevant(), 3)});
+    t.rows.push_back({"shadow", format_count(s.trace.rays), percent(s.rtt.answered, s.trace.rays),
+                      format_count(s.trace.traced), format_fixed(s.rtt.avg_relevant(), 3)});
     t.notes.push_back("(b) white: answered by RTT, black: traced; (c) light " +
                       std::to_string(options.shadow_map_light) +
                       ": white empty relevant list, grey tested against the list, black traced.");
     print_table(config.log, t);
     r.tables.push_back(t);
     r.findings.push_back("office " + size_label(w, h) + ": RTT answered " +
-                         percent(p.answered, p.rays) + " of primary and " +
-                         percent(s.answered, s.rays) + " of shadow rays");
+                         percent(p.rtt.answered, p.trace.rays) + " of primary and " +
+                         percent(s.rtt.answered, s.trace.rays) + " of shadow rays");
     return r;
 }
 

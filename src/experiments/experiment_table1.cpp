@@ -67,7 +67,7 @@ std::vector<Table1Row> table1_rows() {
         rows.push_back({"  avg relevant triangles",
                         [=](const Measurement& m, ClockKind) {
                             return stat_of(m, "rtt", shadow, [](const KindResult& k) {
-                                return format_fixed(k.stats.avg_relevant(), 3);
+                                return format_fixed(k.rtt.avg_relevant(), 3);
                             });
                         },
                         [=](const paper::Table1Column& p) {

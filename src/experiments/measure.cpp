@@ -11,6 +11,7 @@
 #include <array>
 #include <chrono>
 #include <optional>
+#include <utility>
 
 #include "rtt/error.h"
 #include "trace/trace_embree.h"
@@ -68,7 +69,6 @@ double median(std::vector<double> v) {
 struct BandAnswers {
     std::vector<Hit> hits;
     std::vector<uint8_t> visible;
-    TraceStats primary_stats, shadow_stats;
 };
 
 struct BandRunner {
@@ -76,42 +76,57 @@ struct BandRunner {
     const Scene& scene;
     tbb::task_arena* arena;
 
-    void primary(const Tracer& t, std::vector<Hit>& hits, TraceStats* stats) const {
+    /// The tile's counters, per thread, added to `into` at the end.
+    struct Sums {
+        tbb::combinable<std::pair<TraceStats, RttStats>> parts;
+        TraceContext local() {
+            auto& [trace, rtt] = parts.local();
+            return TraceContext{&trace, &rtt};
+        }
+        void add_to(KindResult& into) {
+            parts.combine_each([&](const std::pair<TraceStats, RttStats>& p) {
+                into.stats += p.first;
+                into.rtt += p.second;
+            });
+        }
+    };
+
+    void primary(const Tracer& t, std::vector<Hit>& hits, KindResult* into) const {
         hits.resize(band.rays.size());
         const auto out = [&](size_t i) {
             return std::span(hits).subspan(band.tile_offset(i), band.tile_size(i));
         };
-        if (!stats) {
+        if (!into) {
             for_each_index(arena, band.tile_count(), [&](size_t i) {
                 band.prefetch_ray_tile(i + 1);
                 t.intersect(band.ray_tile(i), out(i));
             });
             return;
         }
-        tbb::combinable<TraceStats> sums;
+        Sums sums;
         for_each_index(arena, band.tile_count(), [&](size_t i) {
             band.prefetch_ray_tile(i + 1);
-            t.intersect(band.ray_tile(i), out(i), &sums.local());
+            t.intersect(band.ray_tile(i), out(i), sums.local());
         });
-        sums.combine_each([&](const TraceStats& s) { *stats += s; });
+        sums.add_to(*into);
     }
 
-    void shadow(const Tracer& t, std::vector<uint8_t>& visible, TraceStats* stats) const {
+    void shadow(const Tracer& t, std::vector<uint8_t>& visible, KindResult* into) const {
         const size_t n = band.tile_samples();
         visible.resize(band.shadow_jobs.size() * n);
-        auto one = [&](size_t j, TraceStats* s) {
+        auto one = [&](size_t j, const TraceContext& context) {
             band.prefetch_shadow_job(j + 1);
             const ShadowJob& job = band.shadow_jobs[j];
             t.occluded(band.segment_tile(job, scene.lights[job.light].position),
-                       std::span(visible).subspan(j * n, band.tile_size(job.tile)), s);
+                       std::span(visible).subspan(j * n, band.tile_size(job.tile)), context);
         };
-        if (!stats) {
-            for_each_index(arena, band.shadow_jobs.size(), [&](size_t j) { one(j, nullptr); });
+        if (!into) {
+            for_each_index(arena, band.shadow_jobs.size(), [&](size_t j) { one(j, {}); });
             return;
         }
-        tbb::combinable<TraceStats> sums;
-        for_each_index(arena, band.shadow_jobs.size(), [&](size_t j) { one(j, &sums.local()); });
-        sums.combine_each([&](const TraceStats& s) { *stats += s; });
+        Sums sums;
+        for_each_index(arena, band.shadow_jobs.size(), [&](size_t j) { one(j, sums.local()); });
+        sums.add_to(*into);
     }
 };
 
@@ -231,7 +246,7 @@ Measurement measure(const Workload& workload, const std::vector<NamedTracer>& tr
 
         // 1. Checking pass: answers, statistics, warm caches.
         for (size_t i = 0; i < count; ++i)
-            check.primary(*tracers[i].tracer, answers[i].hits, &m.tracers[i].primary.stats);
+            check.primary(*tracers[i].tracer, answers[i].hits, &m.tracers[i].primary);
         for (size_t i = 0; i < count; ++i)
             m.tracers[i].primary.differences +=
                 hit_differences(answers[i].hits, answers[base].hits, tracers[i].exact);
@@ -240,7 +255,7 @@ Measurement measure(const Workload& workload, const std::vector<NamedTracer>& tr
             m.shadow_tiles += band.shadow_jobs.size();
             for (const ShadowJob& job : band.shadow_jobs) m.shadow_rays += job.active;
             for (size_t i = 0; i < count; ++i)
-                check.shadow(*tracers[i].tracer, answers[i].visible, &m.tracers[i].shadow.stats);
+                check.shadow(*tracers[i].tracer, answers[i].visible, &m.tracers[i].shadow);
             for (size_t i = 0; i < count; ++i)
                 m.tracers[i].shadow.differences +=
                     visibility_differences(band, answers[i].visible, answers[base].visible);

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "experiments/workload.h"
+#include "rtt/rtt_options.h"
 #include "rtt/tracer.h"
 
 namespace rtt::bench {
@@ -46,7 +47,8 @@ enum class ClockKind { cpu, wall };
 
 /// One tracer on one kind of rays (primary or shadow) over a whole frame.
 struct KindResult {
-    TraceStats stats;          ///< From the checking pass (rays, traced, answered, lists).
+    TraceStats stats;          ///< From the checking pass (rays, traced).
+    RttStats rtt;              ///< From the checking pass (answered, lists; RTT tracers).
     uint64_t rays = 0;         ///< Rays (active segments) asked for: the Mrays/s numerator.
     Clocks time;               ///< Sum over bands of the median over repetitions.
     std::vector<Clocks> reps;  ///< Frame totals per repetition (sum over bands).

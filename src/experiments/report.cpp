@@ -90,8 +90,9 @@ nlohmann::json kind_json(const KindResult& k) {
     nlohmann::json reps = nlohmann::json::array();
     for (const Clocks& c : k.reps) reps.push_back(clocks_json(c));
     const TraceStats& s = k.stats;
+    const RttStats& r = k.rtt;
     nlohmann::json declined = nlohmann::json::object();
-    for (const auto& [name, field] : declined_fields) declined[name] = s.*field;
+    for (const auto& [name, field] : declined_fields) declined[name] = r.*field;
     return {{"rays", k.rays},
             {"time", clocks_json(k.time)},
             {"mrays_per_s_cpu", k.mrays_per_second(ClockKind::cpu)},
@@ -100,13 +101,13 @@ nlohmann::json kind_json(const KindResult& k) {
             {"differences_from_baseline", k.differences},
             {"stats",
              {{"tiles", s.tiles},
-              {"rtt_tiles", s.rtt_tiles},
+              {"rtt_tiles", r.rtt_tiles},
               {"rays", s.rays},
               {"traced", s.traced},
-              {"answered", s.answered},
-              {"relevant_sum", s.relevant_sum},
-              {"avg_relevant", s.avg_relevant()},
-              {"fallback_seconds", s.fallback_seconds()},
+              {"answered", r.answered},
+              {"relevant_sum", r.relevant_sum},
+              {"avg_relevant", r.avg_relevant()},
+              {"fallback_seconds", r.fallback_seconds()},
               {"declined", declined}}}};
 }
 
@@ -122,18 +123,19 @@ KindResult kind_from_json(const nlohmann::json& j) {
     k.differences = j.at("differences_from_baseline").get<uint64_t>();
     const nlohmann::json& s = j.at("stats");
     TraceStats& t = k.stats;
+    RttStats& r = k.rtt;
     for (auto [field, name] : {std::pair{&t.tiles, "tiles"},
-                               {&t.rtt_tiles, "rtt_tiles"},
+                               {&r.rtt_tiles, "rtt_tiles"},
                                {&t.rays, "rays"},
                                {&t.traced, "traced"},
-                               {&t.answered, "answered"},
-                               {&t.relevant_sum, "relevant_sum"}})
+                               {&r.answered, "answered"},
+                               {&r.relevant_sum, "relevant_sum"}})
         *field = s.at(name).get<uint64_t>();
     if (s.contains("fallback_seconds"))
-        t.fallback_ns = uint64_t(s.at("fallback_seconds").get<double>() * 1e9 + 0.5);
+        r.fallback_ns = uint64_t(s.at("fallback_seconds").get<double>() * 1e9 + 0.5);
     if (s.contains("declined")) {  // files written before the counters existed lack them
         const nlohmann::json& d = s.at("declined");
-        for (const auto& [name, field] : declined_fields) t.*field = d.at(name).get<uint64_t>();
+        for (const auto& [name, field] : declined_fields) r.*field = d.at(name).get<uint64_t>();
     }
     return k;
 }

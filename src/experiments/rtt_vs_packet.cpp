@@ -48,7 +48,7 @@ void print_rtt_vs_packet(std::FILE* out, const std::string& scene_name) {
             t.rows.push_back(
                 {shadow ? "shadow" : "primary", image, format_count(a.rays),
                  format_ms(a.seconds(config.clock)), format_ms(b.seconds(config.clock)),
-                 format_count(b.stats.traced), format_fixed(b.stats.avg_relevant(), 3),
+                 format_count(b.stats.traced), format_fixed(b.rtt.avg_relevant(), 3),
                  format_ratio(speedup(m, "rtt", "packet", shadow, config.clock)),
                  paper_setting ? format_ratio(shadow ? p->shadow_speedup() : p->primary_speedup())
                                : "-",

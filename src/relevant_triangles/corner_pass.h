@@ -84,7 +84,7 @@ enum class CornerStatus {
                ///< (any-hit) all 4 corners are blocked by different triangles.
 };
 
-/// Why a tile is traced instead of answered from a list (TraceStats' declined_* counters); the
+/// Why a tile is traced instead of answered from a list (RttStats' declined_* counters); the
 /// passes record theirs in CornerResult::declined when they give up.
 enum class Decline : uint8_t {
     none,

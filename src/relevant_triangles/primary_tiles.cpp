@@ -23,10 +23,11 @@ namespace rtt_detail {
 
 // ---- primary and reflected rays -----------------------------------------------------------
 
-void RttTracer::intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
-                          std::span<SampleAnswer> answers) const {
+void RttTracer::intersect(const RayTile& tile, std::span<Hit> hits,
+                          const TraceContext& context) const {
     const int n = int(tile.rays.size());
-    TraceStats st;
+    const std::span<SampleAnswer> answers = context.answers;
+    RttStats st;
     for (SampleAnswer& a : answers) a = SampleAnswer::traced;
     if (!shaft_tile(tile.shaft, tile.width, tile.height, tile.rays.size())) {
         const FallbackClock clock(st.fallback_ns);
@@ -35,10 +36,7 @@ void RttTracer::intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* 
     } else {
         intersect_shaft(tile, hits, answers, st);
     }
-    st.tiles = 1;
-    st.rays = uint64_t(n);
-    st.traced = uint64_t(n) - st.answered;
-    if (stats) *stats += st;
+    record_tile(uint64_t(n), st, context);
 }
 
 const Bvh<bvh_width>& RttTracer::bvh() const {
@@ -51,13 +49,13 @@ const Bvh<bvh_width>& RttTracer::bvh() const {
 void RttTracer::intersect_arbitrary(std::span<const Ray> rays, std::span<Hit> hits,
                                     TraceStats* stats) const {
     trace_bvh_rays(bvh(), rays, hits);
-    record_traced_tile(rays.size(), stats, {});
+    record_traced_tile(rays.size(), stats);
 }
 
 void RttTracer::visible_arbitrary(std::span<const Ray> rays, std::span<uint8_t> visible,
                                   TraceStats* stats) const {
     visible_bvh_rays(bvh(), rays, visible);
-    record_traced_tile(rays.size(), stats, {});
+    record_traced_tile(rays.size(), stats);
 }
 
 /// The end of a primary shaft's region when all 4 corners hit triangles of one plane P seen
@@ -110,7 +108,7 @@ ShaftRegion RttTracer::primary_region(const Shaft& shaft, const PrimaryEnd& e) c
 }
 
 void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
-                                std::span<SampleAnswer> answers, TraceStats& st) const {
+                                std::span<SampleAnswer> answers, RttStats& st) const {
     const int n = int(tile.rays.size());
     PrimaryShaft p;
     corners_of(tile, p.corners, p.cs);

@@ -47,7 +47,7 @@ inline namespace RTT_ISA_NS {
 namespace rtt_detail {
 
 /// Adds its lifetime in nanoseconds to `ns`: wraps each call of the fallback
-/// (TraceStats::fallback_ns). Two clock reads per declined tile, of 256 rays or more.
+/// (RttStats::fallback_ns). Two clock reads per declined tile, of 256 rays or more.
 class FallbackClock {
 public:
     explicit FallbackClock(uint64_t& ns) : ns_(ns), start_(std::chrono::steady_clock::now()) {}
@@ -85,8 +85,14 @@ inline bool takes_lean_pass(int n, int lean_max_samples, const Ray (&corners)[4]
 }
 using tolerance::unit_roundoff;
 
+/// Adds one tile of `rays` rays, `st.answered` of them from a list, to the context's counters.
+inline void record_tile(uint64_t rays, const RttStats& st, const TraceContext& context) {
+    if (context.stats) *context.stats += TraceStats{1, rays, rays - st.answered};
+    if (context.rtt) *context.rtt += st;
+}
+
 /// Adds a declined tile to the counter of its reason (corner_pass.h, Decline).
-inline void count_decline(TraceStats& st, Decline why) {
+inline void count_decline(RttStats& st, Decline why) {
     switch (why) {
         case Decline::none:
             break;
@@ -136,10 +142,10 @@ public:
           extended_(options.rules == RttRules::extended) {}
     std::string_view name() const override { return extended_ ? "rtt" : "rtt-paper"; }
 
-    void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
-                   std::span<SampleAnswer> answers) const override;
-    void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
-                  std::span<SampleAnswer> answers) const override;
+    void intersect(const RayTile& tile, std::span<Hit> hits,
+                   const TraceContext& context) const override;
+    void occluded(const SegmentTile& tile, std::span<uint8_t> visible,
+                  const TraceContext& context) const override;
     /// Rays without a tile shape go through a BVH (trace_bvh.h), built on the first call: one
     /// by one through it they are 2-2.5x faster than packets through the kd-tree
     /// (docs/benchmarks.md, "Arbitrary rays").
@@ -168,13 +174,13 @@ private:
     /// One shaft tile: answers every ray, adds the rays answered from a list, the tile and its
     /// list length to `st`.
     void intersect_shaft(const RayTile& tile, std::span<Hit> hits, std::span<SampleAnswer> answers,
-                         TraceStats& st) const;
+                         RttStats& st) const;
     /// A shaft tile no list answers, with corner rays `corners` (0 and 3, 1 and 2 opposite):
     /// one large packet (trace_frustum.h) when its rays share an origin and it is narrow, else
     /// the widest packets.
     void trace_declined(const RayTile& tile, const Ray (&corners)[4], std::span<Hit> hits) const;
     void occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visible,
-                        std::span<SampleAnswer> answers, TraceStats& st) const;
+                        std::span<SampleAnswer> answers, RttStats& st) const;
     bool one_receiver_plane(const SegmentTile& tile) const;
     /// Where a primary shaft's region ends: the slab end of the 4 corner hits (t, tri) and the
     /// plane they all lie on (plane_id = no_plane when they lie on several, or the apex is on

@@ -42,12 +42,13 @@ bool RttTracer::one_receiver_plane(const SegmentTile& tile) const {
     return orient3d_sign(r.v0, r.v1, r.v2, tile.light) != 0;
 }
 
-void RttTracer::occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
-                         std::span<SampleAnswer> answers) const {
+void RttTracer::occluded(const SegmentTile& tile, std::span<uint8_t> visible,
+                         const TraceContext& context) const {
+    const std::span<SampleAnswer> answers = context.answers;
     const int n = int(tile.points.size());
     uint64_t active_count = 0;
     for (int i = 0; i < n; ++i) active_count += tile.active[i] != 0;
-    TraceStats st;
+    RttStats st;
     for (SampleAnswer& a : answers) a = SampleAnswer::traced;
     for (uint8_t& v : visible) v = 0;
     if (active_count == 0) {
@@ -58,10 +59,7 @@ void RttTracer::occluded(const SegmentTile& tile, std::span<uint8_t> visible, Tr
     } else {
         occluded_shaft(tile, visible, answers, st);
     }
-    st.tiles = 1;
-    st.rays = active_count;
-    st.traced = active_count - st.answered;
-    if (stats) *stats += st;
+    record_tile(active_count, st, context);
 }
 
 namespace {
@@ -79,7 +77,7 @@ bool near_receiver(const FacingPlane& receiver, float tol, const Vec3f& w) {
 }  // namespace
 
 void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visible,
-                               std::span<SampleAnswer> answers, TraceStats& st) const {
+                               std::span<SampleAnswer> answers, RttStats& st) const {
     const int n = int(tile.points.size());
     Ray corners[4];
     int cs[4];

@@ -35,15 +35,15 @@ public:
     explicit BruteForceTracer(const Scene& scene) : triangles_(gather_triangles(scene)) {}
     std::string_view name() const override { return "brute"; }
 
-    void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
-                   std::span<SampleAnswer> answers) const override {
-        intersect_one_by_one(tile, hits, stats, answers,
+    void intersect(const RayTile& tile, std::span<Hit> hits,
+                   const TraceContext& context) const override {
+        intersect_one_by_one(tile, hits, context,
                              [&](const Ray& ray) { return trace_brute_force(triangles_, ray); });
     }
 
-    void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
-                  std::span<SampleAnswer> answers) const override {
-        occluded_one_by_one(tile, visible, stats, answers,
+    void occluded(const SegmentTile& tile, std::span<uint8_t> visible,
+                  const TraceContext& context) const override {
+        occluded_one_by_one(tile, visible, context,
                             [&](const Ray& ray) { return occluded_brute_force(triangles_, ray); });
     }
 

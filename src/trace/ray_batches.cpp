@@ -52,7 +52,7 @@ void for_each_chunk(std::span<const Ray> rays, TraceStats* stats, const Trace& t
 
 void Tracer::intersect_arbitrary(std::span<const Ray> rays, std::span<Hit> hits,
                                  TraceStats* stats) const {
-    intersect(RayTile{int(rays.size()), 1, rays, false}, hits, stats);
+    intersect(RayTile{int(rays.size()), 1, rays, false}, hits, TraceContext{stats});
 }
 
 void Tracer::visible_arbitrary(std::span<const Ray> rays, std::span<uint8_t> visible,

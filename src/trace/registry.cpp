@@ -10,13 +10,6 @@
 
 namespace rtt {
 
-TraceStats& TraceStats::operator+=(const TraceStats& o) {
-    const auto values = o.counter_values();
-    const auto fields = counters();
-    for (size_t i = 0; i < fields.size(); ++i) *fields[i] += values[i];
-    return *this;
-}
-
 // The other ISAs' kernels (trace/kernels.h, compiled once per ISA by CMakeLists.txt); this
 // file's own ISA's come from trace/kernels.h.
 #ifdef RTT_KERNELS_AVX2

@@ -209,28 +209,28 @@ public:
     explicit BvhTracer(const Scene& scene) : bvh_(build_bvh<W>(gather_triangles(scene))) {}
     std::string_view name() const override { return "bvh"; }
 
-    void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
-                   std::span<SampleAnswer> answers) const override {
-        intersect_one_by_one(tile, hits, stats, answers,
+    void intersect(const RayTile& tile, std::span<Hit> hits,
+                   const TraceContext& context) const override {
+        intersect_one_by_one(tile, hits, context,
                              [&](const Ray& ray) { return traverse<W, false>(bvh_, ray); });
     }
 
-    void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
-                  std::span<SampleAnswer> answers) const override {
-        occluded_one_by_one(tile, visible, stats, answers,
+    void occluded(const SegmentTile& tile, std::span<uint8_t> visible,
+                  const TraceContext& context) const override {
+        occluded_one_by_one(tile, visible, context,
                             [&](const Ray& ray) { return traverse<W, true>(bvh_, ray).valid(); });
     }
 
     void intersect_arbitrary(std::span<const Ray> rays, std::span<Hit> hits,
                              TraceStats* stats) const override {
         trace_bvh_rays(bvh_, rays, hits);
-        record_traced_tile(rays.size(), stats, {});
+        record_traced_tile(rays.size(), stats);
     }
 
     void visible_arbitrary(std::span<const Ray> rays, std::span<uint8_t> visible,
                            TraceStats* stats) const override {
         visible_bvh_rays(bvh_, rays, visible);
-        record_traced_tile(rays.size(), stats, {});
+        record_traced_tile(rays.size(), stats);
     }
 
 private:

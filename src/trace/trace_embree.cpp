@@ -177,8 +177,8 @@ public:
         return size_t(std::max<int64_t>(log_->bytes.load(), 0));
     }
 
-    void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
-                   std::span<SampleAnswer> answers) const override {
+    void intersect(const RayTile& tile, std::span<Hit> hits,
+                   const TraceContext& context) const override {
         switch (mode_) {
             case EmbreeMode::packets:
                 intersect16(tile, hits);
@@ -190,11 +190,11 @@ public:
                 intersect1(tile, hits);
                 break;
         }
-        record_traced_tile(tile.rays.size(), stats, answers);
+        record_traced_tile(tile.rays.size(), context);
     }
 
-    void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
-                  std::span<SampleAnswer> answers) const override {
+    void occluded(const SegmentTile& tile, std::span<uint8_t> visible,
+                  const TraceContext& context) const override {
         const auto segment = [&](int i) {
             return tile.active[size_t(i)]
                        ? std::optional(shadow_ray(tile.light, tile.points[size_t(i)]))
@@ -203,7 +203,7 @@ public:
         occluded_any(tile.width, tile.height, segment, visible);
         uint64_t n = 0;
         for (size_t i = 0; i < tile.points.size(); ++i) n += tile.active[i] != 0;
-        record_traced_tile(n, stats, answers);
+        record_traced_tile(n, context);
     }
 
     void visible_arbitrary(std::span<const Ray> rays, std::span<uint8_t> visible,
@@ -213,7 +213,7 @@ public:
         occluded_any(
             std::min(n, block), (n + block - 1) / block,
             [&](int i) { return i < n ? std::optional(rays[size_t(i)]) : std::nullopt; }, visible);
-        record_traced_tile(rays.size(), stats, {});
+        record_traced_tile(rays.size(), stats);
     }
 
 private:

@@ -361,18 +361,18 @@ public:
         return frustum_ ? "frustum" : K == 4 ? "packet" : (K == 8 ? "packet8" : "packet16");
     }
 
-    void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
-                   std::span<SampleAnswer> answers) const override {
+    void intersect(const RayTile& tile, std::span<Hit> hits,
+                   const TraceContext& context) const override {
         if (!frustum_ || !tile.shaft ||
             !trace_frustum(tree_, triangles_, tile.rays, tile.width, tile.height, hits))
             trace_tile_packets<K>(tree_, triangles_, tile, hits);
-        record_traced_tile(tile.rays.size(), stats, answers);
+        record_traced_tile(tile.rays.size(), context);
     }
 
-    void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
-                  std::span<SampleAnswer> answers) const override {
+    void occluded(const SegmentTile& tile, std::span<uint8_t> visible,
+                  const TraceContext& context) const override {
         const uint64_t n = occluded_tile_packets<K>(tree_, triangles_, tile, visible);
-        record_traced_tile(n, stats, answers);
+        record_traced_tile(n, context);
     }
 
 private:

@@ -128,15 +128,15 @@ public:
         : tree_(tree), triangles_(gather_triangles(scene)) {}
     std::string_view name() const override { return "ray"; }
 
-    void intersect(const RayTile& tile, std::span<Hit> hits, TraceStats* stats,
-                   std::span<SampleAnswer> answers) const override {
-        intersect_one_by_one(tile, hits, stats, answers,
+    void intersect(const RayTile& tile, std::span<Hit> hits,
+                   const TraceContext& context) const override {
+        intersect_one_by_one(tile, hits, context,
                              [&](const Ray& ray) { return trace_ray(tree_, triangles_, ray); });
     }
 
-    void occluded(const SegmentTile& tile, std::span<uint8_t> visible, TraceStats* stats,
-                  std::span<SampleAnswer> answers) const override {
-        occluded_one_by_one(tile, visible, stats, answers,
+    void occluded(const SegmentTile& tile, std::span<uint8_t> visible,
+                  const TraceContext& context) const override {
+        occluded_one_by_one(tile, visible, context,
                             [&](const Ray& ray) { return occluded_ray(tree_, triangles_, ray); });
     }
 
@@ -144,7 +144,7 @@ public:
                            TraceStats* stats) const override {
         for (size_t i = 0; i < rays.size(); ++i)
             visible[i] = !occluded_ray(tree_, triangles_, rays[i]);
-        record_traced_tile(rays.size(), stats, {});
+        record_traced_tile(rays.size(), stats);
     }
 
 private:

@@ -92,7 +92,7 @@ std::vector<uint8_t> compose_frame(const RenderResult& frame, Overlay overlay) {
 std::string stats_line(const ViewState& state, const RenderResult& frame, bool moving) {
     const RenderStats& s = frame.stats;
     const auto share = [](const KindStats& k) {
-        return k.trace.rays ? 100.0 * double(k.trace.answered) / double(k.trace.rays) : 0.0;
+        return k.trace.rays ? 100.0 * double(k.rtt.answered) / double(k.trace.rays) : 0.0;
     };
     const uint64_t rays = s.primary.trace.rays + s.shadow.trace.rays + s.secondary.trace.rays;
     char line[320];
