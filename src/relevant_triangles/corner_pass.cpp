@@ -1,7 +1,12 @@
 #include "relevant_triangles/corner_pass.h"
 
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
 #include "geom/triangle_simd.h"
 #include "relevant_triangles/tolerances.h"
+#include "trace/root_clip.h"
 #include "trace/trace_ray.h"
 
 namespace rtt {
@@ -19,6 +24,69 @@ struct alignas(16) CornerStackEntry {
     uint32_t node;
     uint32_t lanes;
 };
+
+/// How far (coordinate units) the apex must lie beyond a split for the child on its side to be
+/// out of reach of every accepted ray: far more than the float test's fuzz (see PlaneSet).
+float behind_margin_of(const Bbox3f& bounds, const Vec3f& org) {
+    return tolerance::box_test * 3.f *
+           std::max({std::fabs(bounds.lo.x - org.x), std::fabs(bounds.hi.x - org.x),
+                     std::fabs(bounds.lo.y - org.y), std::fabs(bounds.hi.y - org.y),
+                     std::fabs(bounds.lo.z - org.z), std::fabs(bounds.hi.z - org.z)});
+}
+
+/// Keeps a node no lane enters for shaft culling. Shadows test it against the region at once
+/// (their region is final); closest hits keep it untested: their region's end is known only at
+/// the end, and tiles whose corners part ways never need the test. Lean tiles too:
+/// collect_deferred tests every kept box against the final region R, which lies in the shaft's
+/// cone, so a box test against the cone here would only repeat (one box at a time) a test that
+/// the batch does 16 boxes at a time, and for every tile that gives up later would be wasted.
+/// The set of nodes entered is the same; only a tile with more than rtt_max_deferred skipped
+/// nodes gives up (`listing` false: traced by packets, still exact).
+template <bool AnyHit>
+RTT_FORCEINLINE void defer_node(uint32_t node, const BoxV& box, const ShaftRegion* region,
+                                CornerResult& out, bool& listing) {
+    if (AnyHit && !region->meets(box)) return;
+    DeferredNodes& d = out.deferred;
+    if (d.count == rtt_max_deferred) {
+        listing = false;
+        out.declined = Decline::budget;
+        return;
+    }
+    d.add(node, box);
+}
+
+/// The corners' tests against one leaf's triangles not met before; the status the pass stops
+/// with, or nothing to go on. A full list only stops the listing (`listing` false).
+template <Query Q>
+RTT_FORCEINLINE std::optional<CornerStatus> corners_leaf(
+    const KdNode& leaf, const uint32_t* leaf_ids, std::span<const TriangleVerts> triangles,
+    Shaft& shaft, TriangleMailbox& mailbox, CornerResult& out, PacketHit<4>& best, vf& lane_tmax,
+    bool& closer, bool& listing) {
+    const uint32_t* ids = leaf_ids + leaf.first_triangle();
+    for (uint32_t k = 0, count = leaf.triangle_count(); k < count; ++k) {
+        const uint32_t id = ids[k];
+        // A triangle met again in another leaf: its corner tests cannot change (the lanes'
+        // tmax only shrank) and its relevance was decided.
+        if (mailbox.seen(id)) continue;
+        if (!complete_shaft(shaft)) return give_up(out, Decline::no_shaft);
+        // Every lane tests every triangle met: a superset of the leaves trace_ray visits per
+        // lane, which returns the same answers (trace_ray.h).
+        const CornerVerdict v = test_corners<Q>(shaft, triangles[id], lane_tmax);
+        switch (take_verdict<Q>(v, id, out, best, lane_tmax, closer)) {
+            case VerdictTaken::ok:
+                break;
+            case VerdictTaken::blocked:
+                return CornerStatus::blocked;
+            case VerdictTaken::all_blocked:
+                return give_up(out, Decline::corners_parted, CornerStatus::overflow);
+            case VerdictTaken::list_full:
+                out.declined = Decline::list_full;
+                listing = false;
+                break;
+        }
+    }
+    return std::nullopt;
+}
 
 }  // namespace
 
@@ -44,30 +112,12 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
         above_first[a] = bits != 0;
         zero_dir[a] = dir[a] == vf(0.f);
     }
-    const float behind_margin =
-        tolerance::box_test * 3.f *
-        std::max({std::fabs(tree.bounds.lo.x - org.x), std::fabs(tree.bounds.hi.x - org.x),
-                  std::fabs(tree.bounds.lo.y - org.y), std::fabs(tree.bounds.hi.y - org.y),
-                  std::fabs(tree.bounds.lo.z - org.z), std::fabs(tree.bounds.hi.z - org.z)});
-    // trace_ray's clip to the padded root box (a NaN slab distance never shrinks the interval)
-    // and its scene_t_scale per lane (the origin is common, only max|dir| differs).
-    const Bbox3f padded = padded_bounds(tree.bounds);
-    vf t0 = ray_tmin, t1 = ray_tmax;
-    float dist = 0.f;
-    for (int a = 0; a < 3; ++a) {
-        const vf tn = vf(padded.lo[a] - org[a]) * inv[a];
-        const vf tf = vf(padded.hi[a] - org[a]) * inv[a];
-        const vb swap = tn > tf;
-        const vf lo = select(swap, tf, tn), hi = select(swap, tn, tf);
-        t0 = select(lo > t0, lo, t0);
-        t1 = select(hi < t1, hi, t1);
-        dist = std::max({dist, std::fabs(padded.lo[a] - org[a]), std::fabs(padded.hi[a] - org[a])});
-    }
-    const vf tscale = vf(dist) / max(max(abs(dir[0]), abs(dir[1])), abs(dir[2]));
-    // Widen what the box cut by the split margin, within [tmin, tmax], as trace_ray does.
-    const vf lane_min = ray_tmin, lane_max = ray_tmax;
-    t0 = select(t0 > lane_min, max(t0 - (abs(t0) + tscale) * vf(kd_margin), lane_min), lane_min);
-    t1 = select(t1 < lane_max, min(t1 + (abs(t1) + tscale) * vf(kd_margin), lane_max), lane_max);
+    const float behind_margin = behind_margin_of(tree.bounds, org);
+    // trace_ray's clip to the padded root box and its scene_t_scale, per lane.
+    const vf org4[3] = {vf(org.x), vf(org.y), vf(org.z)};
+    vf t0, t1, tscale;
+    clip_to_root<4>(padded_bounds(tree.bounds), org4, corner_lanes.dir, inv, ray_tmin, ray_tmax, t0,
+                    t1, tscale);
     const uint32_t entering = movemask(t0 <= t1);
     if (entering != 0xF) {
         if constexpr (Lean) return give_up(out, Decline::corners_parted);
@@ -76,23 +126,8 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
 
     bool listing = true;  // list and deferred nodes within capacity
     bool closer = false;  // take_verdict's flag: this pass does not narrow its region
-    // A node no lane enters is kept for shaft culling. Shadows test it against the region at
-    // once (their region is final); closest hits keep it untested: their region's end is known
-    // only at the end, and tiles whose corners part ways never need the test. Lean tiles too:
-    // collect_deferred tests every kept box against the final region R, which lies in the
-    // shaft's cone, so a box test against the cone here would only repeat (one box at a time)
-    // a test that the batch does 16 boxes at a time, and for every tile that gives up later
-    // would be wasted. The set of nodes entered is the same; only a tile with more than
-    // rtt_max_deferred skipped nodes now gives up (overflow: traced by packets, still exact).
     const auto defer = [&](uint32_t node, const BoxV& box) {
-        if (AnyHit && !region->meets(box)) return;
-        DeferredNodes& d = out.deferred;
-        if (d.count == rtt_max_deferred) {
-            listing = false;
-            out.declined = Decline::budget;
-            return;
-        }
-        d.add(node, box);
+        defer_node<AnyHit>(node, box, region, out, listing);
     };
     PacketHit<4> best;
     vf lane_tmax = ray_tmax;
@@ -192,30 +227,10 @@ CornerStatus trace_corners(const KdTree& tree, std::span<const TriangleVerts> tr
             }
         }
         if (index == invalid_triangle) continue;
-        const KdNode& leaf = nodes[index];
-        const uint32_t* ids = leaf_ids + leaf.first_triangle();
-        for (uint32_t k = 0, count = leaf.triangle_count(); k < count; ++k) {
-            const uint32_t id = ids[k];
-            // A triangle met again in another leaf: its corner tests cannot change (the lanes'
-            // tmax only shrank) and its relevance was decided.
-            if (mailbox.seen(id)) continue;
-            if (!complete_shaft(shaft)) return give_up(out, Decline::no_shaft);
-            // Every lane tests every triangle met: a superset of the leaves trace_ray visits
-            // per lane, which returns the same answers (trace_ray.h).
-            const CornerVerdict v = test_corners<Q>(shaft, triangles[id], lane_tmax);
-            switch (take_verdict<Q>(v, id, out, best, lane_tmax, closer)) {
-                case VerdictTaken::ok:
-                    break;
-                case VerdictTaken::blocked:
-                    return CornerStatus::blocked;
-                case VerdictTaken::all_blocked:
-                    return give_up(out, Decline::corners_parted, CornerStatus::overflow);
-                case VerdictTaken::list_full:
-                    out.declined = Decline::list_full;
-                    listing = false;
-                    break;
-            }
-        }
+        if (const std::optional<CornerStatus> stop =
+                corners_leaf<Q>(nodes[index], leaf_ids, triangles, shaft, mailbox, out, best,
+                                lane_tmax, closer, listing))
+            return *stop;
     }
     if constexpr (!AnyHit)
         for (int i = 0; i < 4; ++i) out.hit[i] = Hit{best.t[i], uint32_t(best.tri[i])};

@@ -29,6 +29,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <optional>
 #include <span>
 
 #include "geom/triangle_simd.h"
@@ -48,37 +49,28 @@ enum class Narrowed {
     abandon,  ///< The tile will not be answered from a list: stop, nothing is answered.
 };
 
-/// Walks the kd-tree through the shaft (file comment). The corners of `shaft` are traced as
-/// test_corners traces them: Query::closest_hit closest hits (out.hit), any_hit occluded segments
-/// (out.occluded, to their ends unless one triangle blocks them all). `region` must hold every
-/// point of every accepted ray up to its answer (any_hit: to its end); `narrow(best, region)`
-/// (closest hits only) may replace it by a smaller one after the corners' hits changed.
-/// Returns
-///   traced:   corners answered; out.list holds every triangle an accepted ray can hit in the
-///             last region;
-///   blocked:  (any_hit) out.blocker blocks every accepted segment; corners answered;
-///   overflow: (any_hit) all 4 corners blocked, by different triangles; corners answered, no list;
-///   untraced: gave up (more than `budget` nodes, a full list, or `narrow` said so): nothing
-///             is answered, not even the corners.
-template <Query Q, typename Narrow>
-CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> triangles,
-                        const Shaft& shaft, ShaftRegion& region, int budget,
-                        TriangleMailbox& mailbox, CornerResult& out, Narrow&& narrow) {
-    constexpr bool AnyHit = Q == Query::any_hit;
-    constexpr int W = simd_max_width >= 8 ? 8 : 4;  // lanes per vector
-    constexpr int C = 8 / W;                        // vectors per 8 half-spaces
+/// R's 8 half-spaces (the cone in lanes 0-3, the slab and end plane in 4-7; without a slab every
+/// lane of it passes, ShaftRegion::use_slab) and its bounding box, relative to the apex, in
+/// registers: the walk's node and triangle tests (file comment, "Node test").
+struct WalkRegion {
+    static constexpr int W = simd_max_width >= 8 ? 8 : 4;  // lanes per vector
+    static constexpr int C = 8 / W;                        // vectors per 8 half-spaces
     using vf = vfloat<W>;
     using vf4 = vfloat4;
-    out.reset();
-    mailbox.begin(triangles.size());
-    if (tree.nodes.empty()) return CornerStatus::traced;
+    /// lo[a], hi[a]: n_a (box.lo_a - org_a), n_a (box.hi_a - org_a) per half-space.
+    struct Terms {
+        vf lo[3][C], hi[3][C];
+    };
 
-    // The region's 8 half-spaces: the cone in lanes 0-3, the slab and end plane in 4-7 (without
-    // a slab every lane of it passes, ShaftRegion::use_slab). Built in registers.
     vf n[3][C], limit[C];
     vf4 bounds_lo, bounds_hi;  // region.bounds, relative to the apex
     float rlo[3], rhi[3];      // the same, for the split tests
-    const auto load_planes = [&] {
+    float org[3];
+    vf4 org4;
+
+    explicit WalkRegion(const Vec3f& apex) : org{apex.x, apex.y, apex.z}, org4(BoxV::lanes(apex)) {}
+
+    RTT_FORCEINLINE void load(const ShaftRegion& region) {
         bounds_lo = region.bounds.lo;
         bounds_hi = region.bounds.hi;
         for (int a = 0; a < 3; ++a) {
@@ -101,24 +93,18 @@ CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> trian
         limit[0] = region.cone.limit;
         limit[1] = slab_limit;
 #endif
-    };
-    load_planes();
-    const float org[3] = {shaft.org.x, shaft.org.y, shaft.org.z};
-    // lo[a], hi[a]: n_a (box.lo_a - org_a), n_a (box.hi_a - org_a) per half-space.
-    struct Terms {
-        vf lo[3][C], hi[3][C];
-    };
-    const vf4 org4 = BoxV::lanes(shaft.org);
-    const auto terms_of = [&](const vf4& blo, const vf4& bhi, Terms& t) {
+    }
+
+    RTT_FORCEINLINE void terms_of(const vf4& blo, const vf4& bhi, Terms& t) const {
         const vf4 dlo = blo - org4, dhi = bhi - org4;
         for (int a = 0; a < 3; ++a)
             for (int c = 0; c < C; ++c) {
                 t.lo[a][c] = n[a][c] * vf(dlo[a]);
                 t.hi[a][c] = n[a][c] * vf(dhi[a]);
             }
-    };
-    // Whether all half-spaces may meet the box of terms t (ShaftRegion::meets' sums).
-    const auto meets = [&](const Terms& t) {
+    }
+    /// Whether all half-spaces may meet the box of terms t (ShaftRegion::meets' sums).
+    RTT_FORCEINLINE bool meets(const Terms& t) const {
         bool in = true;
         for (int c = 0; c < C; ++c) {
             const vf best = (max(t.lo[0][c], t.hi[0][c]) + max(t.lo[1][c], t.hi[1][c])) +
@@ -126,18 +112,18 @@ CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> trian
             in &= movemask(best >= limit[c]) == all_lanes<W>;
         }
         return in;
-    };
-    // Whether the box (relative to the apex) may meet region.bounds.
-    const auto in_bounds = [&](const vf4& dlo, const vf4& dhi) {
+    }
+    /// Whether the box (relative to the apex) may meet region.bounds.
+    RTT_FORCEINLINE bool in_bounds(const vf4& dlo, const vf4& dhi) const {
         return (movemask((dlo <= bounds_hi) & (dhi >= bounds_lo)) & 7) == 7;
-    };
-    const auto box_meets = [&](const vf4& blo, const vf4& bhi) {
+    }
+    RTT_FORCEINLINE bool box_meets(const vf4& blo, const vf4& bhi) const {
         Terms t;
         terms_of(blo, bhi, t);
         return in_bounds(blo - org4, bhi - org4) && meets(t);
-    };
-    // The same for a triangle's bounding box, from scalars (no vector built in memory).
-    const auto triangle_meets = [&](const TriangleVerts& tri) {
+    }
+    /// The same for a triangle's bounding box, from scalars (no vector built in memory).
+    RTT_FORCEINLINE bool triangle_meets(const TriangleVerts& tri) const {
         Terms t;
         for (int a = 0; a < 3; ++a) {
             const float lo = std::min({tri.v0[a], tri.v1[a], tri.v2[a]}) - org[a];
@@ -149,7 +135,95 @@ CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> trian
             }
         }
         return meets(t);
-    };
+    }
+    /// Which children of a split at `split` on axis A may meet the region, given the parent's
+    /// terms t; v receives the split's terms n_A (split - org_A). (The sums' order differs from
+    /// ShaftRegion::meets for some axes: PlaneSet's tolerance covers any order.)
+    template <int A>
+    RTT_FORCEINLINE void children_in(float split, const Terms& t, vf (&v)[C], bool& below_in,
+                                     bool& above_in) const {
+        constexpr int A1 = (A + 1) % 3, A2 = (A + 2) % 3;
+        const float dv = split - org[A];
+        // The parent meets region.bounds: a child may only leave them along A.
+        below_in = dv >= rlo[A];
+        above_in = dv <= rhi[A];
+        for (int c = 0; c < C; ++c) {
+            v[c] = n[A][c] * vf(dv);
+            const vf others = max(t.lo[A1][c], t.hi[A1][c]) + max(t.lo[A2][c], t.hi[A2][c]);
+            below_in &= movemask(others + max(t.lo[A][c], v[c]) >= limit[c]) == all_lanes<W>;
+            above_in &= movemask(others + max(v[c], t.hi[A][c]) >= limit[c]) == all_lanes<W>;
+        }
+    }
+};
+
+/// The triangles of one leaf through the walk's tests (cull_shaft): each not seen before whose
+/// box meets the region goes through test_corners and into the corners' answers or the list.
+/// Returns the status the walk stops with, or nothing to go on; `shortened`: a corner's hit
+/// came nearer.
+template <Query Q>
+RTT_FORCEINLINE std::optional<CornerStatus> walk_leaf(const KdNode& leaf, const uint32_t* leaf_ids,
+                                                      std::span<const TriangleVerts> triangles,
+                                                      const Shaft& shaft, const WalkRegion& r,
+                                                      TriangleMailbox& mailbox, CornerResult& out,
+                                                      PacketHit<4>& best, vfloat4& lane_tmax,
+                                                      bool& shortened) {
+    const uint32_t* ids = leaf_ids + leaf.first_triangle();
+    // Each vertex load waits on its id's load and on the previous triangle's branches: start
+    // them all before the first test.
+    for (uint32_t k = 0, count = leaf.triangle_count(); k < count; ++k) {
+        const char* p = reinterpret_cast<const char*>(&triangles[ids[k]]);
+        __builtin_prefetch(p);
+        __builtin_prefetch(p + sizeof(TriangleVerts) - 1);
+    }
+    for (uint32_t k = 0, count = leaf.triangle_count(); k < count; ++k) {
+        const uint32_t id = ids[k];
+        if (mailbox.seen(id)) continue;
+        const TriangleVerts& tri = triangles[id];
+        // A triangle whose box misses the region cannot be hit by an accepted ray, nor by a
+        // corner before its current hit (the region only shrinks: it stays missed).
+        if (!r.triangle_meets(tri)) continue;
+        const CornerVerdict cv = test_corners<Q>(shaft, tri, lane_tmax);
+        switch (take_verdict<Q>(cv, id, out, best, lane_tmax, shortened)) {
+            case VerdictTaken::ok:
+                break;
+            case VerdictTaken::blocked:
+                return CornerStatus::blocked;
+            case VerdictTaken::all_blocked:
+                return give_up(out, Decline::corners_parted, CornerStatus::overflow);
+            case VerdictTaken::list_full:
+                return give_up(out, Decline::list_full);
+        }
+    }
+    return std::nullopt;
+}
+
+/// Walks the kd-tree through the shaft (file comment). The corners of `shaft` are traced as
+/// test_corners traces them: Query::closest_hit closest hits (out.hit), any_hit occluded segments
+/// (out.occluded, to their ends unless one triangle blocks them all). `region` must hold every
+/// point of every accepted ray up to its answer (any_hit: to its end); `narrow(best, region)`
+/// (closest hits only) may replace it by a smaller one after the corners' hits changed.
+/// Returns
+///   traced:   corners answered; out.list holds every triangle an accepted ray can hit in the
+///             last region;
+///   blocked:  (any_hit) out.blocker blocks every accepted segment; corners answered;
+///   overflow: (any_hit) all 4 corners blocked, by different triangles; corners answered, no list;
+///   untraced: gave up (more than `budget` nodes, a full list, or `narrow` said so): nothing
+///             is answered, not even the corners.
+template <Query Q, typename Narrow>
+CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> triangles,
+                        const Shaft& shaft, ShaftRegion& region, int budget,
+                        TriangleMailbox& mailbox, CornerResult& out, Narrow&& narrow) {
+    constexpr bool AnyHit = Q == Query::any_hit;
+    constexpr int C = WalkRegion::C;
+    using vf = WalkRegion::vf;
+    using vf4 = vfloat4;
+    using Terms = WalkRegion::Terms;
+    out.reset();
+    mailbox.begin(triangles.size());
+    if (tree.nodes.empty()) return CornerStatus::traced;
+
+    WalkRegion r(shaft.org);
+    r.load(region);
     struct Entry {
         vf4 lo, hi;
         uint32_t node;
@@ -169,12 +243,11 @@ CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> trian
     uint32_t generation = 0;
     const vbool4 axis_lane[3] = {vbool4::from_bits(1), vbool4::from_bits(2), vbool4::from_bits(4)};
     const KdNode* nodes = tree.nodes.data();
-    const uint32_t* leaf_ids = tree.leaf_triangles.data();
     PacketHit<4> best;
     vf4 lane_tmax = vf4::load(shaft.tmax);
 
     const BoxV root(tree.bounds);
-    if (!box_meets(root.lo, root.hi)) return CornerStatus::traced;  // nothing can be hit
+    if (!r.box_meets(root.lo, root.hi)) return CornerStatus::traced;  // nothing can be hit
     push(root.lo, root.hi, 0, generation);
     while (top > 0) {
         --top;
@@ -182,27 +255,18 @@ CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> trian
         uint32_t index = stack[top].node;
         const bool retest = stack[top].generation != generation;
         Terms t;
-        terms_of(blo, bhi, t);
-        if (retest && !(in_bounds(blo - org4, bhi - org4) && meets(t))) continue;
+        r.terms_of(blo, bhi, t);
+        if (retest && !(r.in_bounds(blo - r.org4, bhi - r.org4) && r.meets(t))) continue;
         // One inner node along axis A (a template, so that the terms stay in registers):
-        // false when neither child may meet the region. (The sums' order differs from
-        // ShaftRegion::meets for some axes: PlaneSet's tolerance covers any order.)
+        // false when neither child may meet the region.
         const auto step = [&]<int A>(const KdNode& node) {
-            constexpr int A1 = (A + 1) % 3, A2 = (A + 2) % 3;
             const float split = node.split;
-            const float dv = split - org[A];
-            // The parent meets region.bounds: a child may only leave them along A.
-            bool below_in = dv >= rlo[A], above_in = dv <= rhi[A];
             vf v[C];
-            for (int c = 0; c < C; ++c) {
-                v[c] = n[A][c] * vf(dv);
-                const vf others = max(t.lo[A1][c], t.hi[A1][c]) + max(t.lo[A2][c], t.hi[A2][c]);
-                below_in &= movemask(others + max(t.lo[A][c], v[c]) >= limit[c]) == all_lanes<W>;
-                above_in &= movemask(others + max(v[c], t.hi[A][c]) >= limit[c]) == all_lanes<W>;
-            }
+            bool below_in, above_in;
+            r.children_in<A>(split, t, v, below_in, above_in);
             // The apex's side first: along every ray from the apex, the points on that side of
             // the split come before those on the other.
-            const bool below_first = org[A] <= split;
+            const bool below_first = r.org[A] <= split;
             const vf4 vsplit(split);
             const uint32_t below = index + 1, above = node.above_child();
             if (below_in && above_in) {
@@ -241,41 +305,17 @@ CornerStatus cull_shaft(const KdTree& tree, std::span<const TriangleVerts> trian
             }
         }
         if (index == invalid_triangle) continue;
-        const KdNode& leaf = nodes[index];
-        const uint32_t* ids = leaf_ids + leaf.first_triangle();
-        // Each vertex load waits on its id's load and on the previous triangle's branches:
-        // start them all before the first test.
-        for (uint32_t k = 0, count = leaf.triangle_count(); k < count; ++k) {
-            const char* p = reinterpret_cast<const char*>(&triangles[ids[k]]);
-            __builtin_prefetch(p);
-            __builtin_prefetch(p + sizeof(TriangleVerts) - 1);
-        }
         bool shortened = false;
-        for (uint32_t k = 0, count = leaf.triangle_count(); k < count; ++k) {
-            const uint32_t id = ids[k];
-            if (mailbox.seen(id)) continue;
-            const TriangleVerts& tri = triangles[id];
-            // A triangle whose box misses the region cannot be hit by an accepted ray, nor by a
-            // corner before its current hit (the region only shrinks: it stays missed).
-            if (!triangle_meets(tri)) continue;
-            const CornerVerdict cv = test_corners<Q>(shaft, tri, lane_tmax);
-            switch (take_verdict<Q>(cv, id, out, best, lane_tmax, shortened)) {
-                case VerdictTaken::ok:
-                    break;
-                case VerdictTaken::blocked:
-                    return CornerStatus::blocked;
-                case VerdictTaken::all_blocked:
-                    return give_up(out, Decline::corners_parted, CornerStatus::overflow);
-                case VerdictTaken::list_full:
-                    return give_up(out, Decline::list_full);
-            }
-        }
+        if (const std::optional<CornerStatus> stop =
+                walk_leaf<Q>(nodes[index], tree.leaf_triangles.data(), triangles, shaft, r, mailbox,
+                             out, best, lane_tmax, shortened))
+            return *stop;
         if constexpr (!AnyHit) {
             if (shortened) {
-                const Narrowed r = narrow(best, region);
-                if (r == Narrowed::abandon) return give_up(out, Decline::no_end);
-                if (r == Narrowed::smaller) {
-                    load_planes();
+                const Narrowed n = narrow(best, region);
+                if (n == Narrowed::abandon) return give_up(out, Decline::no_end);
+                if (n == Narrowed::smaller) {
+                    r.load(region);
                     ++generation;
                 }
             }
