@@ -72,18 +72,9 @@ RTT_FORCEINLINE std::optional<CornerStatus> corners_leaf(
         // Every lane tests every triangle met: a superset of the leaves trace_ray visits per
         // lane, which returns the same answers (trace_ray.h).
         const CornerVerdict v = test_corners<Q>(shaft, triangles[id], lane_tmax);
-        switch (take_verdict<Q>(v, id, out, best, lane_tmax, closer)) {
-            case VerdictTaken::ok:
-                break;
-            case VerdictTaken::blocked:
-                return CornerStatus::blocked;
-            case VerdictTaken::all_blocked:
-                return give_up(out, Decline::corners_parted, CornerStatus::overflow);
-            case VerdictTaken::list_full:
-                out.declined = Decline::list_full;
-                listing = false;
-                break;
-        }
+        if (const std::optional<CornerStatus> stop =
+                stop_status(take_verdict<Q>(v, id, out, best, lane_tmax, closer), out, &listing))
+            return stop;
     }
     return std::nullopt;
 }

@@ -33,6 +33,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <iterator>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -171,6 +172,27 @@ inline VerdictTaken take_verdict(const CornerVerdict& v, uint32_t id, CornerResu
         out.list.min_offset[out.list.count++] = v.min_offset;
     }
     return VerdictTaken::ok;
+}
+
+/// The status a corner pass stops with after `taken`, or nothing to go on. A full list gives up
+/// (Decline::list_full) unless `listing` is given: then the pass goes on without a list
+/// (*listing = false).
+inline std::optional<CornerStatus> stop_status(VerdictTaken taken, CornerResult& out,
+                                               bool* listing = nullptr) {
+    switch (taken) {
+        case VerdictTaken::ok:
+            return std::nullopt;
+        case VerdictTaken::blocked:
+            return CornerStatus::blocked;
+        case VerdictTaken::all_blocked:
+            return give_up(out, Decline::corners_parted, CornerStatus::overflow);
+        case VerdictTaken::list_full:
+            if (!listing) return give_up(out, Decline::list_full);
+            out.declined = Decline::list_full;
+            *listing = false;
+            return std::nullopt;
+    }
+    return std::nullopt;
 }
 
 /// Traces the shaft's corners `corners` (corner_sample order, the rays `shaft` was made from).

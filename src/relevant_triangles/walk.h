@@ -183,16 +183,9 @@ RTT_FORCEINLINE std::optional<CornerStatus> walk_leaf(const KdNode& leaf, const 
         // corner before its current hit (the region only shrinks: it stays missed).
         if (!r.triangle_meets(tri)) continue;
         const CornerVerdict cv = test_corners<Q>(shaft, tri, lane_tmax);
-        switch (take_verdict<Q>(cv, id, out, best, lane_tmax, shortened)) {
-            case VerdictTaken::ok:
-                break;
-            case VerdictTaken::blocked:
-                return CornerStatus::blocked;
-            case VerdictTaken::all_blocked:
-                return give_up(out, Decline::corners_parted, CornerStatus::overflow);
-            case VerdictTaken::list_full:
-                return give_up(out, Decline::list_full);
-        }
+        if (const std::optional<CornerStatus> stop =
+                stop_status(take_verdict<Q>(cv, id, out, best, lane_tmax, shortened), out))
+            return stop;
     }
     return std::nullopt;
 }
