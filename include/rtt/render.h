@@ -1,46 +1,8 @@
 // The renderer: 4x4-pixel tiles, K x K antialiasing, Phong shading with omni and spot lights,
 // shadow segments, mirrors, oneTBB threads. Rays go to a Tracer a tile at a time, as separate
 // batches per kind (primary, shadow, secondary), so each kind is timed and counted on its own
-// (the paper's Table 1 measures ray shooting only).
-//
-// Batches handed to the tracer
-// ----------------------------
-// * Primary: one RayTile per region of R x R pixels (RenderOptions::region; R a multiple of 4,
-//   a whole number of 4x4-pixel tiles, cut by the padded image's edge and by render_bands'
-//   bands), 4K columns and rows per tile, in CONVENTIONS' sample order restricted to the region
-//   (sample row y*K+j, column x*K+i), shaft = true, cell = 4K. An image whose size is not a
-//   multiple of 4 is rendered padded to one: padding pixels use CONVENTIONS' formula with the
-//   original W, H (x >= W, y >= H) and are cropped away, so every tile is whole.
-// * Shadow: per light, one SegmentTile over the same grid (points p = org + t * dir, the hit
-//   triangles, an active mask, shaft = the ray tile's shaft). A segment is active when the
-//   light can light the point: the light on the side of the hit triangle's plane the ray came
-//   from (omni), and also strictly inside the outer cone (spot). With a shadow buffer
-//   requested, every hit sample gets a segment to every light (CONVENTIONS' pure visibility);
-//   shading still uses only the lights that can light the point, so the image does not depend
-//   on which buffers were asked for. Lights with no active segment in a tile are not traced.
-//   Shadows of reflected hits count as shadow rays too.
-// * Secondary (reflected): a RayTile per tile and depth, built from the samples that hit a
-//   mirror (material.mirror > 0), in one of two forms. Neither has inactive lanes: RayTile has
-//   no active mask, and no tracer needs to know about one.
-//   - Planar shaft: when the parent tile is a shaft and ALL its samples hit triangles with a
-//     bit-identical plane (n = normalize(cross(v1 - v0, v2 - v0)), d = dot(n, v0), compared
-//     with ==), the reflected tile keeps the 4K x 4K grid and shaft = true: origin = the apex
-//     mirrored about that plane, direction = d - 2 (d.n) n (not renormalized, so the ray
-//     parameter is unchanged: E' + t d' is the mirror image of org + t d), and
-//     tmin = t_hit * (1 + delta). A per-tile constant factor keeps the starting points on one
-//     plane (the mirror plane scaled about E' by 1 + delta: the shaft starts at a plane, as
-//     docs/design.md, "Primary and reflected rays"). delta = max(1e-4, 32 eps (|E|max + |E'|max +
-//     t_max) / t_min) so that rounding of E' cannot bring the mirror itself back (scenes far from
-//     the origin).
-//   - Packed: otherwise (curved mirrors, several planes, mixed tiles, a parent that is not a
-//     shaft) only the mirror samples are packed, in tile order, into a width = count,
-//     height = 1 tile with shaft = false: origin = hit point, direction = the reflection about
-//     the shading normal (geometric normal without vertex normals), tmin = an epsilon scaled
-//     to the scene's size and distance from the origin.
-//   Depth d rays are traced only for d <= max_depth; a mirror at the depth limit reflects black.
-//
-// Results are independent of the thread count, bit for bit: tiles are shaded independently and
-// every sum runs in a fixed order.
+// (the paper's Table 1 measures ray shooting only). What each batch holds, and why results do
+// not depend on the thread count: docs/architecture.md, "What the renderer hands a tracer".
 #pragma once
 
 #include <cstdint>

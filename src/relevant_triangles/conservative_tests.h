@@ -1,39 +1,9 @@
 // The five conservative tests of RTT (Dmitriev, Havran, Seidel 2004, section 3) and the corners'
 // own watertight tests, in one pass over a triangle: a triangle is dropped from a tile's
-// relevant list only when NO ray the shaft accepts (shaft.h) can hit it. The error analysis
-// (slope space, margins) is in shaft.h's file comment.
-//
-// The five tests (paper: two plane tests, three barycentric tests)
-// ----------------------------------------------------------------
-// Edge ("barycentric") tests. The float test rejects a ray whose U, V, W have both a negative
-// and a positive value. A triangle is dropped when one of these holds at all 4 corners with the
-// margins above, hence for every checked ray:
-//   (a) some edge function < -M and another > +M                (mixed signs, both facings);
-//   (b) some edge function < -M and det = U + V + W > MU+MV+MW, or the mirror image: then the
-//       other two cannot both be <= 0 up to their error (they sum to more), so the signs mix.
-//       This is the paper's "barycentric coordinate negative" lambda = U / det < 0, written
-//       without the division (docs/design.md, "The five tests"): it needs det of one sign over the
-//       shaft.
-// Plane ("before start", "beyond end") tests, along the dominant axis. The float t is
-//     t = (U az + V bz + W cz) / det,  az = sz a[kz], ...
-// a weighted mean of the vertex depths az, bz, cz with weights U, V, W of one sign (the test
-// already failed otherwise); with rounding t lies in [min z (1 - 8.2u), max z (1 + 8.2u)] when
-// all depths share a sign. In the shaft's "kz offsets" o = a[kz] * sign(d[kz]) (distance along
-// the dominant axis, the same for every ray) and the ray's start and end offsets
-// tmin |d[kz]| and tmax |d[kz]|, whose ranges over the tile are checked per ray:
-//   (c) before the start: max o (1 + 16u) < lowest start offset, or max o < 0 (all vertices
-//       behind the apex: t < 0 <= tmin; assumes no product underflows to zero, i.e. vertex
-//       coordinates far from the denormal range);
-//   (d) beyond the end: min o (1 - 16u) > highest end offset.
-// These are the paper's plane tests in the form that bounds the float t (signs of points
-// against a plane, affine in the ray). They cannot drop a triangle that sticks out on both
-// sides of the shaft's start or end along kz; such triangles stay in the list, which is only
-// slower.
-//
-// Whole-tile occluder (shadows; docs/design.md, "Shadow segments"): U, V, W all > their margins (or
-// all < minus them) at the 4 corners and min o (1 - 16u) > highest start offset and max o (1 + 16u)
-// < lowest end offset: then every checked ray's float test accepts (signs agree, det != 0) with t
-// strictly inside its [tmin, tmax], so every segment of the tile is blocked.
+// relevant list only when NO ray the shaft accepts (shaft.h) can hit it. The tests (two edge
+// tests, the plane tests before the start and beyond the end), the margins MU, MV, MW and the
+// whole-tile occluder of shadows are derived in docs/design.md, "The five tests, and why they
+// are conservative"; the assumptions (no underflow to zero) in its "Assumptions".
 #pragma once
 
 #include <algorithm>
@@ -52,7 +22,7 @@ struct CornerVerdict {
     vfloat4 t;                ///< Their hit distances (other lanes: unspecified).
     bool relevant = true;     ///< False: no checked ray of the shaft can hit the triangle.
     bool blocks_all = false;  ///< Every checked ray hits it within its interval.
-    float min_offset = 0.f;   ///< Smallest kz offset of the vertices (see the file comment).
+    float min_offset = 0.f;   ///< Smallest kz offset o = a[kz] sign(d[kz]) of the vertices.
 };
 
 /// The corners' own watertight tests (exactly intersect_watertight, lane by lane, against
@@ -105,7 +75,7 @@ RTT_FORCEINLINE CornerVerdict test_corners(const Shaft& s, const TriangleVerts& 
         if (!WantBlocker || out.hit != 0xF) return out;
     }
 
-    // Margins (file comment). nX: max-norm of the vertex; mX: max over corners of |x| + |y|.
+    // Margins (design.md). nX: max-norm of the vertex; mX: max over corners of |x| + |y|.
     const float nA = std::max({std::fabs(akx), std::fabs(aky), std::fabs(akz)});
     const float nB = std::max({std::fabs(bkx), std::fabs(bky), std::fabs(bkz)});
     const float nC = std::max({std::fabs(ckx), std::fabs(cky), std::fabs(ckz)});

@@ -16,10 +16,11 @@
 //   tile.h                tile helpers: samples still to trace, corners, end planes;
 //   primary_tiles.cpp     primary and reflected tiles: the list's use and the answers;
 //   shadow_tiles.cpp      shadow segments;
-//   rtt_tracer.cpp        RttOptions' checks and the factory.
-// Every ray not answered from a list goes to the widest packets (src/trace/trace_packet.h).
-// Statistics: traced = corner rays and segments plus fallbacks, answered = rays answered from a
-// list; rays = traced + answered.
+//   rtt_options.cpp       RttOptions' checks.
+// Every ray not answered from a list is traced: declined camera and mirror regions as one
+// large packet (src/trace/trace_frustum.h) when narrow, the rest as the widest packets
+// (src/trace/trace_packet.h). Counters: TraceStats' traced = corner rays and segments plus
+// fallbacks, RttStats' answered = rays answered from a list; rays = traced + answered.
 //
 // This header: the tracer's class and shared constants (internal to this folder).
 #pragma once

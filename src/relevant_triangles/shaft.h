@@ -1,40 +1,9 @@
 // RTT's shaft (Dmitriev, Havran, Seidel 2004, section 3): four corner rays from one apex that
 // bound every ray of a tile, and the per-ray check that a ray is one the shaft speaks for. The
 // five conservative tests built on it are in conservative_tests.h, the region R its rays cover
-// in region.h.
-//
-// What "can hit" means here
-// -------------------------
-// A ray hits a triangle when the float watertight test of triangle.h says so (that test IS the
-// definition every tracer shares), not when the real geometry says so: the two differ by
-// rounding near edges and at grazing angles. So the tests below are robust versions of that
-// float test's own conditions, with margins that bound its rounding. They are written in the
-// watertight test's sheared frame, where everything a ray contributes is its shear
-// (sx, sy, sz) = (d[kx], d[ky], 1) / d[kz] ("slopes"), with a permutation (kx, ky, kz) shared by
-// the whole shaft (make_shaft refuses corners that do not share it).
-//
-// Slope space (the convexity argument)
-// ------------------------------------
-// For a fixed vertex V with a = V - O, the sheared coordinates ax = a[kx] - sx a[kz] and
-// ay = a[ky] - sy a[kz] are affine in the slope s = (sx, sy), and so is each 2D edge function:
-//     U(s) = cx by - cy bx      (the sx*sy terms cancel; U = det[c, b, d] / d[kz]),
-// likewise V and W, and their sum det. A pinhole tile's directions lie in the cone spanned by
-// its 4 corner directions; central projection onto d[kz] = 1 maps that cone onto the convex
-// quad Q of the corner slopes. Every ray RTT answers from a list is checked to have its float
-// slopes inside Q grown by a tolerance (the slope quad Q', make_shaft; inner_rays.h checks it
-// per ray), so an affine function of the slope is bounded on those rays by its values at Q's
-// corners plus eta times its gradient, where eta bounds how far Q' moves Q's corners.
-//
-// Error of the float test at a given float slope (u = 2^-24, |sx|, |sy| <= 1 because kz is the
-// dominant axis; nA = max-norm of a, mA = |ax| + |ay|, A the exact V - O):
-//     |ax - ax(exact)| <= u|A[kx]| + 2u|A[kz]| + u|ax| <= 3u nA + u|ax|
-//     |U - U(exact)|   <= 3u (nC mB + nB mC) + 4u mB mC             (=: deltaU)
-// (products of the two sheared coordinates, their rounding and the subtraction's). Combining:
-// the float U of any checked ray is at most  max over corners of the float U + MU, with
-//     MU = (6u + eta)(nC mB' + nB mC') + 10u mB' mC',
-// where mB' bounds mB on Q' (corner values plus the move 2 eta nB plus rounding): twice deltaU
-// (once at the corner, once at the inner ray) plus eta times the gradient bound
-// |dU/dsx| + |dU/dsy| <= nC mB + nB mC. The same holds for V, W (cyclically) and their sum.
+// in region.h. "Can hit" means what the float watertight test of triangle.h says; slope space,
+// the error bounds and the margins derived from them: docs/design.md, "The shaft and the per-ray
+// check" and "The five tests, and why they are conservative".
 #pragma once
 
 #include <algorithm>

@@ -1,30 +1,14 @@
 // RTT by shaft culling (the "rtt" tracer; "rtt-paper" keeps the corner traversal of
-// corner_pass.h): the tile's relevant list and its 4 corners' answers come from ONE front-to-back
-// walk of the kd-tree that enters exactly the nodes whose box may meet the region R of the rays
-// answered from the list (ShaftRegion: the shaft's cone, the slab of kz offsets between their
-// starts and ends, and the plane they end on). Every triangle of every entered leaf goes through
-// the corners' watertight tests and the five conservative tests (test_corners).
+// corner_pass.h): the tile's relevant list and its 4 corners' answers from ONE front-to-back walk
+// of the kd-tree entering exactly the nodes whose box may meet the region R of the rays answered
+// from the list (ShaftRegion: the cone, the slab between the rays' starts and ends, their end
+// plane). Why the list is complete and the corners exact, and how R narrows during the walk:
+// docs/design.md, "`rtt`: one shaft walk instead of corners plus culling".
 //
-// Why the list is complete and the corners exact. A triangle an accepted ray hits within its
-// interval meets R (region.h, PlaneSet's tolerance covers the float test's fuzz), hence meets the
-// box of a leaf listing it, and every ancestor of that leaf: a walk that enters each node whose
-// box may meet R tests it. The corners are accepted rays, so the same holds for every triangle a
-// corner hits before its current closest hit: the corners get trace_ray's (brute force's)
-// answers, as in corner_pass.h (a superset of the leaves trace_ray visits).
-//
-// Closest hits do not know R's end before the corners have hit something. The walk starts with
-// the region of the shaft without an end and narrows it whenever a leaf shortened a corner
-// (`narrow`, called with the corners' closest hits so far): the end offset only decreases
-// (hits only come nearer) and the end plane is the plane of the 4 current hits. Every region
-// used so far contains the final one (the plane is kept only if the final hits stay on it, and
-// a nearer hit on that plane's apex side keeps the points before it there), so the nodes left
-// out were outside the final R too. The walk is front to back (the child on the apex's side of
-// a split first): nearer hits come first and the region narrows early.
-//
-// Node test. The test is ShaftRegion::meets, the same products and sums for 8 half-spaces at
-// once (cone in lanes 0-3, slab and end plane in 4-7), done incrementally: a child's box differs
-// from its parent's in one coordinate, so only the split axis's terms n_a (x_a - org_a) change,
-// and of R's bounding box only the split axis's interval is compared again.
+// Node test. ShaftRegion::meets' products and sums for 8 half-spaces at once (cone in lanes 0-3,
+// slab and end plane in 4-7), done incrementally: a child's box differs from its parent's in one
+// coordinate, so only the split axis's terms n_a (x_a - org_a) change, and of R's bounding box
+// only the split axis's interval is compared again.
 #pragma once
 
 #include <algorithm>
