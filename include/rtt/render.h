@@ -69,6 +69,16 @@ struct KindStats {
     TraceStats trace;
     RttStats rtt;        ///< Zero unless the tracer is an RTT one.
     double seconds = 0;  ///< Time inside tracer calls, summed over threads.
+    /// The context that adds a tile's counters here (and its answers to `answers`).
+    TraceContext context(std::span<SampleAnswer> answers = {}) {
+        return TraceContext{&trace, &rtt, answers};
+    }
+    KindStats& operator+=(const KindStats& o) {
+        trace += o.trace;
+        rtt += o.rtt;
+        seconds += o.seconds;
+        return *this;
+    }
     /// Every counter of both, for code that ships them all (bands, MPI ranks).
     std::vector<uint64_t*> counters() {
         std::vector<uint64_t*> all;

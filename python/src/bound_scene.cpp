@@ -46,9 +46,9 @@ BoundTracer::BoundTracer(std::shared_ptr<BoundScene> scene, const std::string& k
       kind_(kind),
       tracer_(make_tracer(kind, scene_->scene(), scene_->tree())) {}
 
-void BoundTracer::record(const TraceStats& stats, const RttStats& rtt, double seconds) {
+void BoundTracer::record(const CallStats& stats) {
     std::lock_guard lock(stats_mutex_);
-    last_ = CallStats{stats, rtt, seconds};
+    last_ = stats;
 }
 
 CallStats BoundTracer::last_stats() const {
@@ -57,15 +57,17 @@ CallStats BoundTracer::last_stats() const {
 }
 
 void BoundTracer::intersect(std::span<const Ray> rays, std::span<Hit> hits, int threads) {
-    TraceStats stats;
-    const double s = timed_in_arena(threads, [&] { intersect_rays(*tracer_, rays, hits, &stats); });
-    record(stats, {}, s);
+    CallStats stats;
+    stats.seconds =
+        timed_in_arena(threads, [&] { intersect_rays(*tracer_, rays, hits, &stats.trace); });
+    record(stats);
 }
 
 void BoundTracer::visible(std::span<const Ray> rays, std::span<uint8_t> out, int threads) {
-    TraceStats stats;
-    const double s = timed_in_arena(threads, [&] { visible_rays(*tracer_, rays, out, &stats); });
-    record(stats, {}, s);
+    CallStats stats;
+    stats.seconds =
+        timed_in_arena(threads, [&] { visible_rays(*tracer_, rays, out, &stats.trace); });
+    record(stats);
 }
 
 void BoundTracer::camera_hits(const Camera& camera, int width, int height, int aa,
@@ -81,7 +83,7 @@ void BoundTracer::camera_hits(const Camera& camera, int width, int height, int a
     const size_t row = size_t(width) * size_t(aa);
     const int tiles_x = (width + 3) / 4, tiles_y = (height + 3) / 4;
     const int regions_x = (tiles_x + r - 1) / r, regions_y = (tiles_y + r - 1) / r;
-    tbb::combinable<std::pair<TraceStats, RttStats>> partial;
+    tbb::combinable<CallStats> partial;
     const double s = timed_in_arena(threads, [&] {
         tbb::parallel_for(
             tbb::blocked_range2d<int>(0, regions_y, 0, regions_x), [&](const auto& range) {
@@ -98,9 +100,8 @@ void BoundTracer::camera_hits(const Camera& camera, int width, int height, int a
                         tile_hits.resize(tile.size());
                         tile_answers.resize(answers.empty() ? 0 : tile.size());
                         rays.region_rays(tx, ty, cols, rows, tile);
-                        auto& [trace, rtt] = partial.local();
                         tracer_->intersect(RayTile{w, h, tile, true, cell}, tile_hits,
-                                           TraceContext{&trace, &rtt, tile_answers});
+                                           partial.local().context(tile_answers));
                         // Sample (sc, sr) of the region is grid sample (4 tx K + sc, 4 ty K + sr);
                         // padding beyond the image is dropped.
                         for (int sr = 0; sr < h; ++sr) {
@@ -118,13 +119,10 @@ void BoundTracer::camera_hits(const Camera& camera, int width, int height, int a
                     }
             });
     });
-    TraceStats total;
-    RttStats rtt_total;
-    partial.combine_each([&](const std::pair<TraceStats, RttStats>& t) {
-        total += t.first;
-        rtt_total += t.second;
-    });
-    record(total, rtt_total, s);
+    CallStats total;
+    partial.combine_each([&](const CallStats& t) { total += t; });
+    total.seconds = s;
+    record(total);
 }
 
 RenderResult render_like_cli(const BoundScene& bound, const Tracer& tracer,

@@ -35,12 +35,9 @@ private:
     std::unique_ptr<KdTree> tree_;
 };
 
-/// Statistics of the last call on a tracer (any thread's).
-struct CallStats {
-    TraceStats trace;
-    RttStats rtt;  ///< Zero for arbitrary rays and for tracers other than RTT's.
-    double seconds = 0;
-};
+/// Statistics of the last call on a tracer (any thread's); `rtt` stays zero for arbitrary rays
+/// and for tracers other than RTT's.
+using CallStats = KindStats;
 
 class BoundTracer {
 public:
@@ -62,7 +59,7 @@ public:
     CallStats last_stats() const;
 
 private:
-    void record(const TraceStats& stats, const RttStats& rtt, double seconds);
+    void record(const CallStats& stats);
 
     std::shared_ptr<BoundScene> scene_;
     std::string kind_;

@@ -11,9 +11,9 @@
 #include <array>
 #include <chrono>
 #include <optional>
-#include <utility>
 
 #include "rtt/error.h"
+#include "rtt/render.h"
 #include "trace/trace_embree.h"
 
 namespace rtt::bench {
@@ -76,17 +76,14 @@ struct BandRunner {
     const Scene& scene;
     tbb::task_arena* arena;
 
-    /// The tile's counters, per thread, added to `into` at the end.
+    /// The tiles' counters, per thread, added to `into` at the end.
     struct Sums {
-        tbb::combinable<std::pair<TraceStats, RttStats>> parts;
-        TraceContext local() {
-            auto& [trace, rtt] = parts.local();
-            return TraceContext{&trace, &rtt};
-        }
+        tbb::combinable<KindStats> parts;
+        TraceContext local() { return parts.local().context(); }
         void add_to(KindResult& into) {
-            parts.combine_each([&](const std::pair<TraceStats, RttStats>& p) {
-                into.stats += p.first;
-                into.rtt += p.second;
+            parts.combine_each([&](const KindStats& k) {
+                into.stats += k.trace;
+                into.rtt += k.rtt;
             });
         }
     };

@@ -43,9 +43,7 @@ void trace_shadows(const RenderContext& ctx, ThreadStats& ts, const RayBatch& ba
             record->shadow_active = active;
             answers = record->shadow_answers;
         }
-        timed(kind, [&] {
-            ctx.tracer.occluded(tile, visible, TraceContext{&kind.trace, &kind.rtt, answers});
-        });
+        timed(kind, [&] { ctx.tracer.occluded(tile, visible, kind.context(answers)); });
         for (size_t i = 0; i < n; ++i) {
             if (!active[i] || !visible[i]) continue;
             if (lightable[i]) lit[i] |= bit;

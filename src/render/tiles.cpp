@@ -226,9 +226,7 @@ RenderStats render_bands(const Scene& scene, const Tracer& tracer, const RenderO
     for (const ThreadStats& ts : per_thread) {
         KindStats* kinds[3] = {&stats.primary, &stats.shadow, &stats.secondary};
         for (int k = 0; k < 3; ++k) {
-            kinds[k]->trace += ts.kinds[k].trace;
-            kinds[k]->rtt += ts.kinds[k].rtt;
-            kinds[k]->seconds += ts.kinds[k].seconds;
+            *kinds[k] += ts.kinds[k];
         }
         for (size_t d = 0; d < ts.rays_by_depth.size(); ++d)
             stats.rays_by_depth[d] += ts.rays_by_depth[d];

@@ -15,9 +15,7 @@ void trace_batch(const RenderContext& ctx, ThreadStats& ts, const RayBatch& batc
         record->primary_answers.assign(n, SampleAnswer::traced);
         answers = record->primary_answers;
     }
-    timed(kind, [&] {
-        ctx.tracer.intersect(tile, hits, TraceContext{&kind.trace, &kind.rtt, answers});
-    });
+    timed(kind, [&] { ctx.tracer.intersect(tile, hits, kind.context(answers)); });
     ts.rays_by_depth[size_t(depth)] += n;
 
     std::vector<SurfacePoint> surf(n);
