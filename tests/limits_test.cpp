@@ -96,9 +96,8 @@ TEST(Limits, MemoryEstimatesSaturateInsteadOfWrapping) {
     o.height = 10;
     o.aa = 2;
     EXPECT_EQ(render_memory_bytes(o), 1000u * 15u);
-    o.hits_buffer = o.shadow_buffer = o.primary_map = true;
-    o.shadow_map_light = 0;
-    EXPECT_EQ(render_memory_bytes(o), 1000u * 17u + 4000u * 16u);
+    o.hits_buffer = o.shadow_buffer = true;
+    EXPECT_EQ(render_memory_bytes(o, AnswerMaps{true, 0}), 1000u * 17u + 4000u * 16u);
     // Counts from a hostile file: no wrap-around to a small number.
     EXPECT_EQ(scene_memory_bytes(UINT64_MAX / 2, UINT64_MAX / 2), UINT64_MAX);
     EXPECT_GT(scene_memory_bytes(0, uint64_t(1) << 40), uint64_t(1) << 40);

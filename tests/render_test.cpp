@@ -284,12 +284,12 @@ TEST(Render, EveryExactTracerGivesTheSameImage) {
 TEST(Render, ThreadCountDoesNotChangeAnything) {
     const Fixture f(make_test_scene());
     RenderOptions o = options(90, 70, 2);
-    o.hits_buffer = o.shadow_buffer = o.primary_map = true;
-    o.shadow_map_light = 1;
+    o.hits_buffer = o.shadow_buffer = true;
+    const AnswerMaps maps{true, 1};
     o.threads = 1;
-    const RenderResult a = render(f.scene, *f.tracer, o);
+    const RenderResult a = render(f.scene, *f.tracer, o, maps);
     o.threads = 2;
-    const RenderResult b = render(f.scene, *f.tracer, o);
+    const RenderResult b = render(f.scene, *f.tracer, o, maps);
     ASSERT_EQ(a.pixels.size(), b.pixels.size());
     EXPECT_EQ(std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(Vec3f)), 0);
     EXPECT_EQ(a.hits, b.hits);
@@ -303,9 +303,9 @@ TEST(Render, ThreadCountDoesNotChangeAnything) {
 TEST(Render, BandsInAnyOrderAssembleTheSameImage) {
     const Fixture f(make_test_scene());
     RenderOptions o = options(90, 70, 2);  // 18 tile rows, the last cut to 2 pixel rows
-    o.hits_buffer = o.shadow_buffer = o.primary_map = o.pixel_hits = true;
-    o.shadow_map_light = 1;
-    const RenderResult whole = render(f.scene, *f.tracer, o);
+    o.hits_buffer = o.shadow_buffer = o.pixel_hits = true;
+    const AnswerMaps maps{true, 1};
+    const RenderResult whole = render(f.scene, *f.tracer, o, maps);
     // Bands of 1, 2, 3, 4 and 8 tile rows, handed out last first.
     std::vector<std::pair<int, int>> bands = {{0, 1}, {1, 2}, {3, 3}, {6, 4}, {10, 8}};
     RenderResult assembled = whole;
@@ -328,7 +328,10 @@ TEST(Render, BandsInAnyOrderAssembleTheSameImage) {
                       assembled.shadows.begin() + long(at * spp));
             std::copy(band.depth.begin(), band.depth.end(), assembled.depth.begin() + long(at));
             EXPECT_EQ(band.pixels.size(), size_t(band.rows) * size_t(o.width));
-        });
+            EXPECT_EQ(band.primary_map.size(), band.pixels.size());
+            EXPECT_EQ(band.shadow_map.size(), band.pixels.size());
+        },
+        maps);
     EXPECT_EQ(std::memcmp(assembled.pixels.data(), whole.pixels.data(),
                           whole.pixels.size() * sizeof(Vec3f)),
               0);
@@ -484,10 +487,7 @@ TEST(Render, MirrorDepthLimit) {
 
 TEST(Render, FigureFiveMapsHaveOneValuePerPixel) {
     const Fixture f(make_test_scene());
-    RenderOptions o = options(40, 30, 1);
-    o.primary_map = true;
-    o.shadow_map_light = 0;
-    const RenderResult r = render(f.scene, *f.tracer, o);
+    const RenderResult r = render(f.scene, *f.tracer, options(40, 30, 1), AnswerMaps{true, 0});
     ASSERT_EQ(r.primary_map.size(), 40u * 30u);
     ASSERT_EQ(r.shadow_map.size(), 40u * 30u);
     // The brute-force tracer traces every ray: both maps are black.
@@ -510,8 +510,13 @@ TEST(Render, RejectsOptionsOutOfRange) {
     rejects([](RenderOptions& o) { o.max_depth = -1; });
     rejects([](RenderOptions& o) { o.threads = -1; });
     rejects([](RenderOptions& o) { o.threads = max_render_threads + 1; });
-    rejects([](RenderOptions& o) { o.shadow_map_light = 2; });
     rejects([](RenderOptions& o) { o.camera.target = o.camera.position; });
+    // Answer maps of a light the scene lacks, or of shadows that are off.
+    EXPECT_THROW(render(f.scene, *f.tracer, options(8, 8, 1), AnswerMaps{false, 2}), Error);
+    RenderOptions unshadowed = options(8, 8, 1);
+    unshadowed.shadows = false;
+    EXPECT_THROW(render(f.scene, *f.tracer, unshadowed, AnswerMaps{false, 0}), Error);
+    EXPECT_NO_THROW(render(f.scene, *f.tracer, unshadowed, AnswerMaps{true, -1}));
 }
 
 TEST(Render, PointLightIntensityScalesWithTheScene) {

@@ -113,19 +113,20 @@ TEST(ViewFrames, MovingFramesUseOneSampleAndShadowsOffTracesNoSegments) {
     view::ViewState s;
     s.tracers = {"rtt"};
     s.aa = 3;
-    EXPECT_EQ(view::frame_options(s, start, 64, 48, 0, true, true).aa, 1);
-    EXPECT_EQ(view::frame_options(s, start, 64, 48, 0, false, true).aa, 3);
+    EXPECT_EQ(view::frame_options(s, start, 64, 48, 0, true).aa, 1);
+    EXPECT_EQ(view::frame_options(s, start, 64, 48, 0, false).aa, 3);
     s.overlay = view::Overlay::shadow_map;
-    EXPECT_EQ(view::frame_options(s, start, 64, 48, 0, false, true).shadow_map_light, 0);
-    EXPECT_EQ(view::frame_options(s, start, 64, 48, 0, false, false).shadow_map_light, -1);
+    EXPECT_EQ(view::frame_maps(s, true).shadow_light, 0);
+    EXPECT_EQ(view::frame_maps(s, false).shadow_light, -1);
+    EXPECT_FALSE(view::frame_maps(s, true).primary);
 
     const Scene scene = make_builtin_scene("room");
     const KdTree tree = build_kdtree(scene);
     const auto tracer = make_tracer("rtt", scene, tree);
     s.overlay = view::Overlay::none;
-    RenderOptions with = view::frame_options(s, *scene.camera, 64, 48, 1, false, true);
+    RenderOptions with = view::frame_options(s, *scene.camera, 64, 48, 1, false);
     s.shadows = false;
-    RenderOptions without = view::frame_options(s, *scene.camera, 64, 48, 1, false, true);
+    RenderOptions without = view::frame_options(s, *scene.camera, 64, 48, 1, false);
     const RenderResult lit = render(scene, *tracer, with),
                        unshadowed = render(scene, *tracer, without);
     EXPECT_GT(lit.stats.shadow.trace.rays, 0u);

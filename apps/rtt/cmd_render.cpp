@@ -208,9 +208,10 @@ RenderJobResult run_render_job(const RenderJob& job) {
     check_tracer_kind(tracer_kind);
     opt.hits_buffer = !job.hits.empty();
     opt.shadow_buffer = !job.shadows.empty();
-    opt.primary_map = !job.map_primary.empty();
+    AnswerMaps maps;
+    maps.primary = !job.map_primary.empty();
     if (job.map_light < 0) throw Error("--rtt-map-light must be at least 0");
-    opt.shadow_map_light = job.map_shadow.empty() ? -1 : job.map_light;
+    maps.shadow_light = job.map_shadow.empty() ? -1 : job.map_light;
     opt.progress = !job.quiet;
     for (const std::string& a : job.aovs)
         if (std::find(aov_names().begin(), aov_names().end(), a) == aov_names().end())
@@ -219,7 +220,7 @@ RenderJobResult run_render_job(const RenderJob& job) {
     if (!job.aovs.empty() && extension_of(job.image) != ".exr")
         throw Error("--aov writes EXR layers: give -o FILE.exr");
     opt.pixel_hits = job.wants_aov("depth") || job.wants_aov("normal") || job.wants_aov("triangle");
-    if (job.wants_aov("rtt")) opt.primary_map = true;
+    if (job.wants_aov("rtt")) maps.primary = true;
 
     std::vector<Camera> path;
     if (!job.camera_path.empty()) {
@@ -252,12 +253,8 @@ RenderJobResult run_render_job(const RenderJob& job) {
         frame_outputs(frame, outputs);
         if (writer) outputs.check_writable();
     }
-    {
-        // Size, K, depth and threads before loading anything; the map light once lights are known.
-        RenderOptions early = opt;
-        early.shadow_map_light = -1;
-        early.validate(light_positions.size());
-    }
+    // Size, K, depth and threads before loading anything; the map light once lights are known.
+    opt.validate(light_positions.size());
 
     LoadedScene loaded = [&] {
         const render_detail::ProgressBar progress(0, !job.quiet && writer, "loading the scene");
@@ -274,6 +271,7 @@ RenderJobResult run_render_job(const RenderJob& job) {
     const bool lit_from_eye = set_up_lights(scene, light_positions, opt.camera.position);
     validate(scene);
     opt.validate(scene.lights.size());
+    maps.validate(opt, scene.lights.size());
 
     RenderJobResult out;
     out.scene_label = loaded.label;
@@ -314,8 +312,10 @@ RenderJobResult run_render_job(const RenderJob& job) {
         frame_opt.progress = false;  // one line per finished frame instead
         std::vector<RankStats> ranks;
         render_frames_distributed(
-            frames, frame_opt,
-            [&](size_t frame) { return render(scene, *tracer, options_of(frame_opt, frame)); },
+            frames, frame_opt, maps,
+            [&](size_t frame) {
+                return render(scene, *tracer, options_of(frame_opt, frame), maps);
+            },
             [&](size_t frame, RenderResult& r) {
                 out.result = std::move(r);
                 write_frame(frame);
@@ -328,9 +328,9 @@ RenderJobResult run_render_job(const RenderJob& job) {
     for (size_t frame = 0; frame < frames; ++frame) {
         opt = options_of(opt, frame);
         out.ranks.clear();
-        out.result = mpi_distributed()
-                         ? render_distributed(scene, *tracer, opt, &out.ranks, job.rank_timeout)
-                         : render(scene, *tracer, opt);
+        out.result = mpi_distributed() ? render_distributed(scene, *tracer, opt, maps, &out.ranks,
+                                                            job.rank_timeout)
+                                       : render(scene, *tracer, opt, maps);
         if (writer) write_frame(frame);
     }
     return out;

@@ -38,8 +38,9 @@ void mpi_abort(const std::string& message) {
     std::exit(1);
 }
 RenderResult render_distributed(const Scene& scene, const Tracer& tracer,
-                                const RenderOptions& options, std::vector<RankStats>*, double) {
-    return render(scene, tracer, options);
+                                const RenderOptions& options, const AnswerMaps& maps,
+                                std::vector<RankStats>*, double) {
+    return render(scene, tracer, options, maps);
 }
 KdTree share_tree(const Scene&, const std::function<KdTree()>& build, double) {
     return build();
@@ -322,9 +323,10 @@ KdTree share_tree(const Scene& scene, const std::function<KdTree()>& build,
 }
 
 RenderResult render_distributed(const Scene& scene, const Tracer& tracer,
-                                const RenderOptions& options, std::vector<RankStats>* ranks,
-                                double timeout_seconds) {
+                                const RenderOptions& options, const AnswerMaps& maps,
+                                std::vector<RankStats>* ranks, double timeout_seconds) {
     options.validate(scene.lights.size());
+    maps.validate(options, scene.lights.size());
     const int tiles_x = (options.width + 3) / 4, tiles_y = (options.height + 3) / 4;
     // About 8 bands per rank: small enough to balance, large enough that a band's tiles keep a
     // rank's threads busy. Bands start on the regions' grid, so every region is the one render()
@@ -339,7 +341,7 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer,
     local.progress = false;  // rank 0's bar below counts every rank's bands
 
     if (world_rank == 0) {
-        allocate_whole(whole, options);
+        allocate_whole(whole, options, maps);
         render_detail::ProgressBar progress(uint64_t(tiles_y), options.progress);
         std::atomic<int> next_row{0};
         const auto take_band = [&](int& first, int& count) {
@@ -361,14 +363,17 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer,
             },
             [&] {
                 const auto busy_start = Clock::now();
-                stats = render_bands(scene, tracer, local, take_band, [&](RenderResult& band) {
-                    // Rank 0's own bands go straight into the image (other rows than the
-                    // dispatcher's).
-                    unpack(pack(band).data(), whole, band.first_row,
-                           BandLayout(options, band.rows));
-                    progress.advance(uint64_t(band.rows + 3) / 4);
-                    mine.tiles += uint64_t(band.rows + 3) / 4 * uint64_t(tiles_x);
-                });
+                stats = render_bands(
+                    scene, tracer, local, take_band,
+                    [&](RenderResult& band) {
+                        // Rank 0's own bands go straight into the image (other rows than the
+                        // dispatcher's).
+                        unpack(pack(band).data(), whole, band.first_row,
+                               BandLayout(options, band.rows));
+                        progress.advance(uint64_t(band.rows + 3) / 4);
+                        mine.tiles += uint64_t(band.rows + 3) / 4 * uint64_t(tiles_x);
+                    },
+                    maps);
                 mine.busy_seconds = seconds_since(busy_start);
             });
     } else {
@@ -387,7 +392,8 @@ RenderResult render_distributed(const Scene& scene, const Tracer& tracer,
                 busy += seconds_since(band_start);
                 mine.tiles += uint64_t((band.rows + 3) / 4) * uint64_t(tiles_x);
                 send_result({band.first_row, band.rows}, pack(band));
-            });
+            },
+            maps);
         mine.busy_seconds = busy;
     }
     mine.idle_seconds = std::max(0.0, seconds_since(start) - mine.busy_seconds);
@@ -448,7 +454,7 @@ void distribute_items(size_t count, const std::function<std::vector<char>(size_t
 
 #endif
 
-void render_frames_distributed(size_t frames, const RenderOptions& options,
+void render_frames_distributed(size_t frames, const RenderOptions& options, const AnswerMaps& maps,
                                const std::function<RenderResult(size_t)>& render_frame,
                                const std::function<void(size_t, RenderResult&)>& frame_done,
                                std::vector<RankStats>* ranks, double timeout_seconds) {
@@ -470,7 +476,7 @@ void render_frames_distributed(size_t frames, const RenderOptions& options,
         },
         [&](size_t f, std::vector<char>& bytes) {
             RenderResult r;
-            allocate_whole(r, options);
+            allocate_whole(r, options, maps);
             r.stats.rays_by_depth.assign(size_t(options.max_depth) + 1, 0);
             unpack(bytes.data(), r, 0, BandLayout(options, options.height));
             unpack_stats(bytes.data() + bytes.size() - stats_bytes, r.stats);

@@ -51,12 +51,13 @@ struct RankStats {
     double idle_seconds = 0;  ///< Wall time waiting for bands or for the others to finish.
 };
 
-/// render() distributed over the ranks. Every rank must call it with the same scene and options.
+/// render() distributed over the ranks. Every rank must call it with the same scene, options and
+/// maps.
 /// Rank 0 gets the whole result, with the ray statistics summed over the ranks, and (if
 /// `ranks`) every rank's RankStats; other ranks get an empty result. A rank silent for longer
 /// than max(timeout_seconds, 10x the slowest band so far) ends the job (mpi_abort naming it).
 RenderResult render_distributed(const Scene& scene, const Tracer& tracer,
-                                const RenderOptions& options,
+                                const RenderOptions& options, const AnswerMaps& maps,
                                 std::vector<RankStats>* ranks = nullptr,
                                 double timeout_seconds = default_rank_timeout);
 
@@ -76,10 +77,10 @@ void distribute_items(size_t count, const std::function<std::vector<char>(size_t
 /// as ranks): rank 0 hands out frame numbers on demand, every rank (rank 0 too) renders a frame
 /// with render_frame(f) on all its threads, and rank 0 calls frame_done(f, result) for each
 /// frame in the order they finish (never two at once; an exception there ends the job). Every
-/// rank must call it with the same arguments; `options` gives the arrays a frame holds.
+/// rank must call it with the same arguments; `options` and `maps` give the arrays a frame holds.
 /// `ranks` (on rank 0): frames' tiles, rendering and idle seconds per rank. Without MPI: the
 /// frames in order.
-void render_frames_distributed(size_t frames, const RenderOptions& options,
+void render_frames_distributed(size_t frames, const RenderOptions& options, const AnswerMaps& maps,
                                const std::function<RenderResult(size_t)>& render_frame,
                                const std::function<void(size_t, RenderResult&)>& frame_done,
                                std::vector<RankStats>* ranks = nullptr,

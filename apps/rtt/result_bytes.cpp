@@ -47,7 +47,7 @@ void unpack(const char* p, RenderResult& whole, int first_row, const BandLayout&
     take(p, whole.first_triangle, px, band.pixels);
 }
 
-void allocate_whole(RenderResult& out, const RenderOptions& o) {
+void allocate_whole(RenderResult& out, const RenderOptions& o, const AnswerMaps& maps) {
     const size_t pixels = size_t(o.width) * size_t(o.height),
                  samples = pixels * size_t(o.aa) * size_t(o.aa);
     out.width = o.width, out.height = o.height, out.aa = o.aa, out.first_row = 0,
@@ -55,8 +55,8 @@ void allocate_whole(RenderResult& out, const RenderOptions& o) {
     out.pixels.resize(pixels);
     if (o.hits_buffer) out.hits.resize(samples);
     if (o.shadow_buffer) out.shadows.resize(samples);
-    if (o.primary_map) out.primary_map.resize(pixels);
-    if (o.shadow_map_light >= 0) out.shadow_map.resize(pixels);
+    if (maps.primary) out.primary_map.resize(pixels);
+    if (maps.shadow_light >= 0) out.shadow_map.resize(pixels);
     if (o.pixel_hits) out.depth.resize(pixels), out.first_triangle.resize(pixels);
 }
 

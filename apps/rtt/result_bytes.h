@@ -24,8 +24,8 @@ std::vector<char> pack(const RenderResult& band);
 /// Copies a packed band of rows [first_row, first_row + band rows) into `whole`'s arrays
 /// (allocated by allocate_whole).
 void unpack(const char* bytes, RenderResult& whole, int first_row, const BandLayout& band);
-/// The arrays of a whole image, as render() allocates them for `options`.
-void allocate_whole(RenderResult& out, const RenderOptions& options);
+/// The arrays of a whole image, as render() allocates them for `options` and `maps`.
+void allocate_whole(RenderResult& out, const RenderOptions& options, const AnswerMaps& maps);
 
 /// A frame's ray statistics.
 std::vector<char> pack_stats(const RenderStats& stats);

@@ -42,8 +42,6 @@ struct RenderOptions {
     int threads = 0;             ///< Worker threads; 0 = all cores.
     bool hits_buffer = false;    ///< Fill RenderResult::hits.
     bool shadow_buffer = false;  ///< Fill RenderResult::shadows (every hit sample, every light).
-    bool primary_map = false;    ///< Fill RenderResult::primary_map (Figure 5b).
-    int shadow_map_light = -1;   ///< >= 0: fill RenderResult::shadow_map for this light (Fig. 5c).
     bool pixel_hits = false;     ///< Fill RenderResult::depth and first_triangle.
     /// Trace shadow segments. false: every light lights every point it faces (the viewer's
     /// shadows-off mode); no shadow buffer or shadow map then.
@@ -58,10 +56,19 @@ struct RenderOptions {
     /// The region side render() uses: `region`, or default_region(aa) when it is 0.
     int region_pixels() const;
 
-    /// Throws rtt::Error for a size, K, depth, thread count or map light out of range, a
-    /// shadow buffer or map without shadows, or a sample count above max_render_samples.
-    /// `light_count` is the scene's number of lights.
+    /// Throws rtt::Error for a size, K, depth or thread count out of range, a shadow buffer
+    /// without shadows, or a sample count above max_render_samples. `light_count` is the
+    /// scene's number of lights.
     void validate(size_t light_count) const;
+};
+
+/// The paper's Figure 5: which samples RTT answered, per pixel. Measurement rather than image,
+/// so asked for beside the options (render()'s optional argument), not among them.
+struct AnswerMaps {
+    bool primary = false;   ///< Fill RenderResult::primary_map (Figure 5b).
+    int shadow_light = -1;  ///< >= 0: fill RenderResult::shadow_map for this light (Figure 5c).
+    /// Throws rtt::Error for a light the scene does not have, or a shadow map without shadows.
+    void validate(const RenderOptions& options, size_t light_count) const;
 };
 
 /// Counters and time of one kind of rays.
@@ -135,14 +142,16 @@ struct RenderResult {
 };
 
 /// Renders `scene` (its lights, materials and background; the camera comes from `options`)
-/// through `tracer`, which must have been made over the same scene. Throws rtt::Error for
-/// options out of range (RenderOptions::validate) or a degenerate camera.
-RenderResult render(const Scene& scene, const Tracer& tracer, const RenderOptions& options);
+/// through `tracer`, which must have been made over the same scene, filling the answer maps
+/// `maps` asks for. Throws rtt::Error for options or maps out of range (their validate()) or a
+/// degenerate camera.
+RenderResult render(const Scene& scene, const Tracer& tracer, const RenderOptions& options,
+                    const AnswerMaps& maps = {});
 
 /// Estimated bytes of one render() with these options and what `rtt render` keeps beside it:
-/// the linear pixels, the 8-bit image, the Figure 5 maps and the hit and shadow buffers (with
-/// the copy the buffer writer makes).
-uint64_t render_memory_bytes(const RenderOptions& options);
+/// the linear pixels, the 8-bit image, the answer maps and the hit and shadow buffers (with the
+/// copy the buffer writer makes).
+uint64_t render_memory_bytes(const RenderOptions& options, const AnswerMaps& maps = {});
 
 /// Renders the image a band of whole tile rows at a time, in any order and on demand: while
 /// next_band(first_tile_row, tile_rows) returns true, renders tile rows [first_tile_row,
@@ -153,10 +162,11 @@ uint64_t render_memory_bytes(const RenderOptions& options);
 /// (apps/rtt/mpi_render.cpp) assembles the image from bands rendered on several machines. A
 /// band edge also cuts the regions it crosses, so the RTT maps and the answered / traced counts
 /// equal render()'s when bands start on multiples of region_pixels() / 4 tile rows.
-/// Throws rtt::Error for options out of range or a band outside the image.
+/// Throws rtt::Error for options or maps out of range or a band outside the image.
 RenderStats render_bands(const Scene& scene, const Tracer& tracer, const RenderOptions& options,
                          const std::function<bool(int& first_tile_row, int& tile_rows)>& next_band,
-                         const std::function<void(RenderResult& band)>& band_done);
+                         const std::function<void(RenderResult& band)>& band_done,
+                         const AnswerMaps& maps = {});
 
 /// 8-bit sRGB (R, G, B per pixel) of linear pixels, clamped to [0, 1].
 std::vector<uint8_t> encode_srgb8(const std::vector<Vec3f>& pixels);

@@ -1,5 +1,5 @@
 // Figure 5: the office scene and where RTT answered its rays, written by the renderer itself
-// (RenderOptions::primary_map and shadow_map_light, the maps behind `rtt render
+// (AnswerMaps primary and shadow_light, the maps behind `rtt render
 // --rtt-map-primary / --rtt-map-shadow`).
 #include "experiments/experiment_common.h"
 #include "rtt/io.h"
@@ -44,19 +44,19 @@ ExperimentResult run_fig5(const BenchConfig& config, SceneCache& scenes) {
     options.width = w;
     options.height = h;
     options.threads = config.threads;
-    options.primary_map = true;
-    options.shadow_map_light = scene.scene.lights.empty() ? -1 : central_light(scene.scene);
-    const RenderResult result = render(scene.scene, *tracer, options);
+    AnswerMaps maps;
+    maps.primary = true;
+    maps.shadow_light = scene.scene.lights.empty() ? -1 : central_light(scene.scene);
+    const RenderResult result = render(scene.scene, *tracer, options, maps);
 
     const std::string a = output_path(config, "fig5a_office.png");
     const std::string b = output_path(config, "fig5b_office_primary.png");
     write_png(a, w, h, 3, encode_srgb8(result.pixels));
     write_png(b, w, h, 1, result.primary_map);
     r.files = {a, b};
-    if (options.shadow_map_light >= 0) {
-        const std::string c =
-            output_path(config, "fig5c_office_shadow_light" +
-                                    std::to_string(options.shadow_map_light) + ".png");
+    if (maps.shadow_light >= 0) {
+        const std::string c = output_path(
+            config, "fig5c_office_shadow_light" + std::to_string(maps.shadow_light) + ".png");
         write_png(c, w, h, 1, result.shadow_map);
         r.files.push_back(c);
     }
@@ -77,7 +77,7 @@ ExperimentResult run_fig5(const BenchConfig& config, SceneCache& scenes) {
     t.rows.push_back({"shadow", format_count(s.trace.rays), percent(s.rtt.answered, s.trace.rays),
                       format_count(s.trace.traced), format_fixed(s.rtt.avg_relevant(), 3)});
     t.notes.push_back("(b) white: answered by RTT, black: traced; (c) light " +
-                      std::to_string(options.shadow_map_light) +
+                      std::to_string(maps.shadow_light) +
                       ": white empty relevant list, grey tested against the list, black traced.");
     print_table(config.log, t);
     r.tables.push_back(t);

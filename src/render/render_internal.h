@@ -42,12 +42,14 @@ struct RenderContext {
     const Scene& scene;
     const Tracer& tracer;
     const RenderOptions& options;
+    AnswerMaps maps;
     std::vector<TriangleVerts> triangles;
     std::vector<LightInfo> lights;
     float reflect_epsilon = 0.f;  ///< tmin of packed reflected rays (scene-scaled).
 };
 
-RenderContext make_context(const Scene& scene, const Tracer& tracer, const RenderOptions& options);
+RenderContext make_context(const Scene& scene, const Tracer& tracer, const RenderOptions& options,
+                           const AnswerMaps& maps = {});
 
 /// A batch handed to the tracer as one RayTile.
 struct RayBatch {

@@ -33,8 +33,9 @@ Plane triangle_plane(const TriangleVerts& tri) {
     return {n, dot(n, tri.v0)};
 }
 
-RenderContext make_context(const Scene& scene, const Tracer& tracer, const RenderOptions& options) {
-    RenderContext ctx{scene, tracer, options, gather_triangles(scene), {}, 0.f};
+RenderContext make_context(const Scene& scene, const Tracer& tracer, const RenderOptions& options,
+                           const AnswerMaps& maps) {
+    RenderContext ctx{scene, tracer, options, maps, gather_triangles(scene), {}, 0.f};
     for (const Light& l : scene.lights) {
         LightInfo info;
         info.light = &l;

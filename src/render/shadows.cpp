@@ -10,7 +10,7 @@ void trace_shadows(const RenderContext& ctx, ThreadStats& ts, const RayBatch& ba
                    std::span<uint32_t> lit, PrimaryRecord* record) {
     const size_t n = batch.rays.size();
     const bool every_segment = record && ctx.options.shadow_buffer;
-    const int map_light = record ? ctx.options.shadow_map_light : -1;
+    const int map_light = record ? ctx.maps.shadow_light : -1;
     std::vector<Vec3f> points(n);
     std::vector<uint32_t> triangles(n);
     for (size_t i = 0; i < n; ++i) {

@@ -54,11 +54,19 @@ void RenderOptions::validate(size_t light_count) const {
     if (light_count > max_lights)
         throw Error(std::to_string(light_count) + " lights; at most " + std::to_string(max_lights) +
                     " are supported");
-    if (shadow_map_light >= 0 && size_t(shadow_map_light) >= light_count)
-        throw Error("shadow map light " + std::to_string(shadow_map_light) +
+    if (!shadows && shadow_buffer)
+        throw Error("a shadow buffer needs shadow segments (shadows are off)");
+}
+
+void AnswerMaps::validate(const RenderOptions& options, size_t light_count) const {
+    if (shadow_light >= 0 && size_t(shadow_light) >= light_count)
+        throw Error("shadow map light " + std::to_string(shadow_light) +
                     " does not exist (the scene has " + std::to_string(light_count) + " lights)");
-    if (!shadows && (shadow_buffer || shadow_map_light >= 0))
-        throw Error("a shadow buffer or shadow map needs shadow segments (shadows are off)");
+    if (!options.shadows && shadow_light >= 0)
+        throw Error("a shadow map needs shadow segments (shadows are off)");
+    require_memory(render_memory_bytes(options, *this), "image " + std::to_string(options.width) +
+                                                            "x" + std::to_string(options.height) +
+                                                            " with its answer maps");
 }
 
 int default_region(int aa) {
@@ -109,7 +117,7 @@ void render_region(const TileJob& job, int tx, int ty, int cols, int rows, Threa
                     sum += colors[s];
                     if (opt.hits_buffer) out.hits[dst] = record.hits[s].tri;
                     if (opt.shadow_buffer) out.shadows[dst] = record.visible[s];
-                    if (opt.primary_map)
+                    if (job.ctx.maps.primary)
                         answered += record.primary_answers[s] != SampleAnswer::traced;
                     if (!record.shadow_active.empty() && record.shadow_active[s]) {
                         const SampleAnswer a = record.shadow_answers[s];
@@ -127,8 +135,9 @@ void render_region(const TileJob& job, int tx, int ty, int cols, int rows, Threa
                 out.depth[pixel] = first.valid() ? first.t : pos_inf;
                 out.first_triangle[pixel] = first.tri;
             }
-            if (opt.primary_map) out.primary_map[pixel] = uint8_t((answered * 255 + spp / 2) / spp);
-            if (opt.shadow_map_light >= 0)
+            if (job.ctx.maps.primary)
+                out.primary_map[pixel] = uint8_t((answered * 255 + spp / 2) / spp);
+            if (job.ctx.maps.shadow_light >= 0)
                 out.shadow_map[pixel] =
                     shadow_count ? uint8_t((shadow_sum + shadow_count / 2) / shadow_count) : 0;
         }
@@ -142,7 +151,8 @@ namespace render_detail {
 namespace {
 
 /// Allocates `out` for pixel rows [first_row, first_row + rows) of the image.
-void allocate(RenderResult& out, const RenderOptions& options, int first_row, int rows) {
+void allocate(RenderResult& out, const RenderOptions& options, const AnswerMaps& maps,
+              int first_row, int rows) {
     out.width = options.width;
     out.height = options.height;
     out.aa = options.aa;
@@ -153,8 +163,8 @@ void allocate(RenderResult& out, const RenderOptions& options, int first_row, in
     out.pixels.assign(pixels, Vec3f{0.f});
     if (options.hits_buffer) out.hits.assign(samples, 0);
     if (options.shadow_buffer) out.shadows.assign(samples, 0);
-    if (options.primary_map) out.primary_map.assign(pixels, 0);
-    if (options.shadow_map_light >= 0) out.shadow_map.assign(pixels, 0);
+    if (maps.primary) out.primary_map.assign(pixels, 0);
+    if (maps.shadow_light >= 0) out.shadow_map.assign(pixels, 0);
     if (options.pixel_hits) {
         out.depth.assign(pixels, 0.f);
         out.first_triangle.assign(pixels, 0);
@@ -166,12 +176,14 @@ void allocate(RenderResult& out, const RenderOptions& options, int first_row, in
 
 RenderStats render_bands(const Scene& scene, const Tracer& tracer, const RenderOptions& options,
                          const std::function<bool(int&, int&)>& next_band,
-                         const std::function<void(RenderResult&)>& band_done) {
+                         const std::function<void(RenderResult&)>& band_done,
+                         const AnswerMaps& maps) {
     using namespace render_detail;
     const auto start = std::chrono::steady_clock::now();
     options.validate(scene.lights.size());
+    maps.validate(options, scene.lights.size());
     const CameraRays camera(options.camera, options.width, options.height, options.aa);
-    const RenderContext ctx = make_context(scene, tracer, options);
+    const RenderContext ctx = make_context(scene, tracer, options, maps);
     const int tiles_x = (options.width + 3) / 4, tiles_y = (options.height + 3) / 4;
     const int region_tiles = options.region_pixels() / 4;
     const int regions_x = (tiles_x + region_tiles - 1) / region_tiles;
@@ -193,7 +205,7 @@ RenderStats render_bands(const Scene& scene, const Tracer& tracer, const RenderO
             const int first_row = 4 * first_tile_row;
             const int rows = std::min(options.height, 4 * (first_tile_row + tile_rows)) - first_row;
             RenderResult band;
-            allocate(band, options, first_row, rows);
+            allocate(band, options, maps, first_row, rows);
             const TileJob job{ctx, camera, band, first_row};
             // Regions on the image's grid of region_tiles x region_tiles tiles, cut by the
             // band and the image's edge (the answers do not depend on how tiles are grouped).
@@ -237,7 +249,8 @@ RenderStats render_bands(const Scene& scene, const Tracer& tracer, const RenderO
     return stats;
 }
 
-RenderResult render(const Scene& scene, const Tracer& tracer, const RenderOptions& options) {
+RenderResult render(const Scene& scene, const Tracer& tracer, const RenderOptions& options,
+                    const AnswerMaps& maps) {
     RenderResult out;
     bool given = false;
     const int tiles_y = (options.height + 3) / 4;
@@ -248,7 +261,7 @@ RenderResult render(const Scene& scene, const Tracer& tracer, const RenderOption
             first = 0, count = tiles_y, given = true;
             return true;
         },
-        [&](RenderResult& band) { out = std::move(band); });
+        [&](RenderResult& band) { out = std::move(band); }, maps);
     out.stats = stats;
     return out;
 }

@@ -11,7 +11,7 @@ void trace_batch(const RenderContext& ctx, ThreadStats& ts, const RayBatch& batc
     const RayTile tile{batch.width, batch.height, batch.rays, batch.shaft, batch.cell};
     KindStats& kind = ts.kinds[depth == 0 ? primary_kind : secondary_kind];
     std::span<SampleAnswer> answers;
-    if (record && ctx.options.primary_map) {
+    if (record && ctx.maps.primary) {
         record->primary_answers.assign(n, SampleAnswer::traced);
         answers = record->primary_answers;
     }

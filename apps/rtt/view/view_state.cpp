@@ -61,7 +61,7 @@ const char* key_help() {
 }
 
 RenderOptions frame_options(const ViewState& state, const Camera& camera, int width, int height,
-                            int threads, bool moving, bool has_lights) {
+                            int threads, bool moving) {
     RenderOptions opt;
     opt.camera = camera;
     opt.width = width;
@@ -69,10 +69,15 @@ RenderOptions frame_options(const ViewState& state, const Camera& camera, int wi
     opt.aa = moving ? 1 : state.aa;
     opt.threads = threads;
     opt.shadows = state.shadows;
-    opt.primary_map = state.overlay == Overlay::primary_map;
-    opt.shadow_map_light =
-        state.overlay == Overlay::shadow_map && state.shadows && has_lights ? 0 : -1;
     return opt;
+}
+
+AnswerMaps frame_maps(const ViewState& state, bool has_lights) {
+    AnswerMaps maps;
+    maps.primary = state.overlay == Overlay::primary_map;
+    maps.shadow_light =
+        state.overlay == Overlay::shadow_map && state.shadows && has_lights ? 0 : -1;
+    return maps;
 }
 
 std::vector<uint8_t> compose_frame(const RenderResult& frame, Overlay overlay) {

@@ -38,7 +38,9 @@ const char* key_help();
 
 /// The options of one frame: the refined frame, or a moving one (K = 1).
 RenderOptions frame_options(const ViewState& state, const Camera& camera, int width, int height,
-                            int threads, bool moving, bool has_lights);
+                            int threads, bool moving);
+/// The answer maps the overlay shows (the shadow map of light 0, when shadows are on).
+AnswerMaps frame_maps(const ViewState& state, bool has_lights);
 
 /// 8-bit sRGB RGB of the frame with the overlay: the image itself without one (bit for bit what
 /// `rtt render` writes), else half the image's brightness plus green where RTT answered and red

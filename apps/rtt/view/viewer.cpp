@@ -302,9 +302,10 @@ void run_viewer(const ViewerOptions& o) {
         if (render_now && fb_width > 0 && fb_height > 0) {
             if (lit_from_eye)
                 scene.lights[0] = make_point_light(camera.camera().position, bounds, 1);
-            const RenderOptions opt = frame_options(state, camera.camera(), fb_width, fb_height,
-                                                    o.threads, moving, !scene.lights.empty());
-            const RenderResult frame = render(scene, tracer_for(state.tracer_kind()), opt);
+            const RenderOptions opt =
+                frame_options(state, camera.camera(), fb_width, fb_height, o.threads, moving);
+            const RenderResult frame = render(scene, tracer_for(state.tracer_kind()), opt,
+                                              frame_maps(state, !scene.lights.empty()));
             shown = compose_frame(frame, state.overlay);
             shown_width = fb_width;
             shown_height = fb_height;
