@@ -21,10 +21,10 @@
 #include <vector>
 
 #include "bench_args.h"
+#include "builtin_scenes/procedural.h"
 #include "rtt/camera.h"
 #include "rtt/kdtree.h"
 #include "rtt/tracer.h"
-#include "scene/procedural.h"
 #include "trace/trace_embree.h"
 
 namespace rtt {

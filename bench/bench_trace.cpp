@@ -1,7 +1,8 @@
 // Every tracer on the same tiles, at the micro level: ray, packet (4-wide), packet8, packet16,
 // rtt and every Embree mode (tracer_kinds()) on one built-in scene's primary tiles, then on its
 // shadow tiles (segments from the packet tracer's hit points, the renderer's active rule). The
-// rays are `rtt bench`'s (src/experiments/workload.h), so the two tools measure the same thing.
+// rays are `rtt bench`'s (apps/rtt/experiments/workload.h), so the two tools measure the same
+// thing.
 //
 //   bench_trace [--scene=room] [--size=640x480] [--aa=1] [--region=0] [Google Benchmark flags]
 //

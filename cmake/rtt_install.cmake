@@ -1,4 +1,4 @@
-# `cmake --install`: headers, the three libraries, rttConfig.cmake / rttConfigVersion.cmake with
+# `cmake --install`: headers, the four libraries, rttConfig.cmake / rttConfigVersion.cmake with
 # the targets exported under rtt::, and pkg-config files. Each library has its own export file,
 # so find_package(rtt) needs only the dependencies of the components it loads: rtt::core needs
 # oneTBB (and Embree when built with it), never assimp, nlohmann-json or libpng
@@ -10,7 +10,7 @@ set(RTT_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/rtt)
 install(DIRECTORY include/rtt DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(FILES ${PROJECT_BINARY_DIR}/include/rtt/version.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/rtt)
 
-foreach(component core scene render)
+foreach(component core builtin_scenes scene render)
   install(TARGETS rtt_${component} EXPORT rtt-${component}-targets
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}

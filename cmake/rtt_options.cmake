@@ -74,8 +74,10 @@ function(rtt_add_isa_kernels target)
     set(objects ${target}_${isa})
     add_library(${objects} OBJECT ${ARGN})
     set_target_properties(${objects} PROPERTIES RTT_MARCH ${level} POSITION_INDEPENDENT_CODE ON)
+    # The target's own include folders (set before or after this call), as its sources see them.
     target_include_directories(${objects} PRIVATE ${PROJECT_SOURCE_DIR}/include
-      ${PROJECT_SOURCE_DIR}/src ${PROJECT_BINARY_DIR}/include)
+      ${PROJECT_SOURCE_DIR}/src ${PROJECT_BINARY_DIR}/include
+      $<TARGET_PROPERTY:${target},INCLUDE_DIRECTORIES>)
     target_compile_features(${objects} PRIVATE cxx_std_20)
     target_link_libraries(${objects} PRIVATE rtt_build_flags rtt_warnings TBB::tbb)
     target_sources(${target} PRIVATE $<TARGET_OBJECTS:${objects}>)

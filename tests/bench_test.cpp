@@ -11,6 +11,7 @@
 #include <fstream>
 #include <set>
 
+#include "builtin_scenes/procedural.h"
 #include "experiments/experiments.h"
 #include "experiments/machine_info.h"
 #include "experiments/measure.h"
@@ -20,7 +21,6 @@
 #include "experiments/workload.h"
 #include "rtt/error.h"
 #include "rtt/render.h"
-#include "scene/procedural.h"
 
 namespace rtt::bench {
 namespace {

@@ -8,10 +8,10 @@
 #include <string>
 #include <tuple>
 
+#include "builtin_scenes/procedural.h"
 #include "geom/triangle.h"
 #include "rtt/camera.h"
 #include "rtt/error.h"
-#include "scene/procedural.h"
 #include "trace/brute_force.h"
 
 namespace rtt {

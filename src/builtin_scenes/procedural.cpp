@@ -1,6 +1,6 @@
 // Mesh container, transforms, flat primitives (boxes, grids, extrusions) and the scene
 // builder. Curved primitives are in procedural_curved.cpp.
-#include "scene/procedural.h"
+#include "builtin_scenes/procedural.h"
 
 #include <cmath>
 #include <utility>

@@ -3,8 +3,8 @@
 // camera as the office.
 #include <vector>
 
-#include "scene/builtin_makers.h"
-#include "scene/plant_models.h"
+#include "builtin_scenes/makers.h"
+#include "builtin_scenes/plant_models.h"
 
 namespace rtt {
 

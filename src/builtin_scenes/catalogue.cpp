@@ -1,8 +1,7 @@
 // The list of built-in scenes and the dispatch to their generators.
+#include "builtin_scenes/makers.h"
 #include "rtt/builtin_scenes.h"
-
 #include "rtt/error.h"
-#include "scene/builtin_makers.h"
 
 namespace rtt {
 

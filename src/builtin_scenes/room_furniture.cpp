@@ -1,4 +1,4 @@
-#include "scene/room_furniture.h"
+#include "builtin_scenes/room_furniture.h"
 
 #include <cmath>
 #include <vector>

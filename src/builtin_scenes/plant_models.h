@@ -5,7 +5,7 @@
 
 #include <span>
 
-#include "scene/procedural.h"
+#include "builtin_scenes/procedural.h"
 
 namespace rtt::proc {
 

@@ -3,9 +3,9 @@
 #include <cmath>
 #include <vector>
 
-#include "scene/builtin_makers.h"
-#include "scene/furniture.h"
-#include "scene/room_furniture.h"
+#include "builtin_scenes/furniture.h"
+#include "builtin_scenes/makers.h"
+#include "builtin_scenes/room_furniture.h"
 
 namespace rtt {
 

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <vector>
 
+#include "builtin_scenes/procedural.h"
 #include "core/check.h"
-#include "scene/procedural.h"
 
 namespace rtt::proc {
 

@@ -1,4 +1,4 @@
-#include "scene/furniture.h"
+#include "builtin_scenes/furniture.h"
 
 #include <algorithm>
 #include <cmath>

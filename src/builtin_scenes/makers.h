@@ -1,11 +1,11 @@
-// Internal: the generator of each built-in scene (dispatched by builtin_scenes.cpp) and the
+// Internal: the generator of each built-in scene (dispatched by catalogue.cpp) and the
 // office layout that the plants scene furnishes further.
 #pragma once
 
 #include <vector>
 
+#include "builtin_scenes/procedural.h"
 #include "rtt/scene.h"
-#include "scene/procedural.h"
 
 namespace rtt {
 

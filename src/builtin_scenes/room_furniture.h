@@ -2,7 +2,7 @@
 // (y = 0) at the origin, facing +z.
 #pragma once
 
-#include "scene/procedural.h"
+#include "builtin_scenes/procedural.h"
 
 namespace rtt::proc {
 

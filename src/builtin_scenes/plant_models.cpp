@@ -1,4 +1,4 @@
-#include "scene/plant_models.h"
+#include "builtin_scenes/plant_models.h"
 
 #include <cmath>
 #include <vector>

@@ -1,4 +1,4 @@
-// Pieces shared by the experiment files (not used outside src/experiments).
+// Pieces shared by the experiment files (not used outside apps/rtt/experiments).
 #pragma once
 
 #include <string>

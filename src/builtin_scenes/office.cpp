@@ -3,9 +3,9 @@
 #include <cmath>
 #include <vector>
 
-#include "scene/builtin_makers.h"
-#include "scene/furniture.h"
-#include "scene/office_furniture.h"
+#include "builtin_scenes/furniture.h"
+#include "builtin_scenes/makers.h"
+#include "builtin_scenes/office_furniture.h"
 
 namespace rtt {
 

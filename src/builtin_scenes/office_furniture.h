@@ -2,7 +2,7 @@
 // (or on a desk top) at the origin; "front" is +z (where the user sits or stands).
 #pragma once
 
-#include "scene/procedural.h"
+#include "builtin_scenes/procedural.h"
 
 namespace rtt::proc {
 

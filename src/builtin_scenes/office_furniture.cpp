@@ -1,9 +1,9 @@
-#include "scene/office_furniture.h"
+#include "builtin_scenes/office_furniture.h"
 
 #include <cmath>
 #include <vector>
 
-#include "scene/furniture.h"
+#include "builtin_scenes/furniture.h"
 
 namespace rtt::proc {
 
