@@ -78,10 +78,8 @@ uint64_t scene_memory_bytes(uint64_t vertices, uint64_t triangles) {
     // Per vertex: position and shading normal (12 + 12). Per triangle: indices and material
     // (16), gathered vertices (36, once for the build and once in a tracer), the build's
     // triangle lists and clipped bounds with parent and children alive together, nodes and
-    // leaf lists, and per-tracer extras. Measured with the event-sweep build (peak RSS growth):
-    // 274 bytes per triangle for 1M random triangles, 429 with the scene and a tracer, 477 for
-    // crossing needles, the worst case the reference budget allows; the binned build that
-    // replaced it peaks lower (`rtt info --scene plants`: 206 MB for 731k triangles, all in).
+    // leaf lists, and per-tracer extras: 384 bytes per triangle covers the build's measured
+    // peak (docs/robustness.md, "Limits").
     constexpr uint64_t per_vertex = 24, per_triangle = 384;
     return saturating_mul_add(triangles, per_triangle, saturating_mul_add(vertices, per_vertex, 0));
 }

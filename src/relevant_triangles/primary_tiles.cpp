@@ -190,9 +190,8 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
 
 void RttTracer::trace_declined(const RayTile& tile, const Ray (&corners)[4],
                                std::span<Hit> hits) const {
-    // One large packet pays on narrow regions only: at 320x240 a 16-pixel region spans about
-    // 3 degrees and the frustum ran at 0.43x of packet16 there, at 1024x768 (1 degree) at 1.1x
-    // (docs/benchmarks.md, "Frustum tracer"). Both diagonals' angles decide.
+    // One large packet pays on narrow regions only (docs/benchmarks.md, "Frustum tracer"):
+    // both diagonals within 2 degrees.
     const auto cos_angle = [](const Vec3f& a, const Vec3f& b) {
         return dot(a, b) / (length(a) * length(b));
     };

@@ -148,7 +148,7 @@ public:
     void occluded(const SegmentTile& tile, std::span<uint8_t> visible,
                   const TraceContext& context) const override;
     /// Rays without a tile shape go through a BVH (trace_bvh.h), built on the first call: one
-    /// by one through it they are 2-2.5x faster than packets through the kd-tree
+    /// by one through it they are faster than packets through the kd-tree
     /// (docs/benchmarks.md, "Arbitrary rays").
     void intersect_arbitrary(std::span<const Ray> rays, std::span<Hit> hits,
                              TraceStats* stats) const override;

@@ -15,9 +15,8 @@ namespace rtt {
 inline namespace RTT_ISA_NS {
 
 /// Stores the fields of a packet held in registers (org xyz, dir xyz, tmin, tmax) as vectors,
-/// which the traversal's vector loads forward without a stall (staging lane by lane with scalar
-/// stores makes them wait: that stall was ~70 % of trace_packet<4>'s own samples, perf, room
-/// 640x480). Lanes outside `active` get the first active lane's ray: finite, as the packet
+/// which the traversal's vector loads forward without a stall (scalar stores lane by lane make
+/// them wait). Lanes outside `active` get the first active lane's ray: finite, as the packet
 /// tracers ask.
 template <int K>
 RTT_FORCEINLINE void store_packet(vfloat<K> (&f)[8], uint32_t active, RayPacket<K>& packet) {
