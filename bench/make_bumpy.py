@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Writes a user-style test mesh for RTT on objects against background (docs/benchmarks.md,
-"Objects against background"): a bumpy sphere of about 200k triangles (OBJ) and two JSON scenes
-framing it, `bumpy.json` (about half the image background) and `bumpy_floor.json` (the same
-object on a large floor).
+"Objects against background", "Loose rays"): a bumpy sphere of about 200k triangles (OBJ) and
+three JSON scenes framing it, `bumpy.json` (about half the image background),
+`bumpy_floor.json` (the same object on a large floor) and `bumpy_mirror.json` (the sphere a
+mirror on the floor, three grey copies around it).
 
     python3 bench/make_bumpy.py OUTDIR [--segments 450]
 """
@@ -37,15 +38,20 @@ def main():
                 lines.append("f %d %d %d" % (a0, b1, a1))
     with open(os.path.join(a.outdir, "bumpy.obj"), "w") as f:
         f.write("\n".join(lines) + "\n")
-    for name, floor in (("bumpy", False), ("bumpy_floor", True)):
-        meshes = ['{"path": "bumpy.obj", "material": "grey"}']
-        if floor:
-            meshes.append('{"vertices": [[-20, -1.1, -20], [20, -1.1, -20], [20, -1.1, 20], '
-                          '[-20, -1.1, 20]], "triangles": [[0, 2, 1], [0, 3, 2]], "material": "grey"}')
+    floor = ('{"vertices": [[-20, -1.1, -20], [20, -1.1, -20], [20, -1.1, 20], '
+             '[-20, -1.1, 20]], "triangles": [[0, 2, 1], [0, 3, 2]], "material": "grey"}')
+    copies = ['{"path": "bumpy.obj", "material": "grey", "transform": {"translate": [%g, 0, %g]}}'
+              % xz for xz in ((-2.5, -1.5), (2.0, -2.5), (-1.5, 2.5))]
+    scenes = (("bumpy", "grey", []), ("bumpy_floor", "grey", [floor]),
+              ("bumpy_mirror", "mirror", copies + [floor]))
+    for name, material, others in scenes:
+        meshes = ['{"path": "bumpy.obj", "material": "%s"}' % material] + others
         with open(os.path.join(a.outdir, name + ".json"), "w") as f:
             f.write('{\n  "camera": {"position": [1.7, 1.1, 2.3], "target": [0, -0.1, 0], '
                     '"up": [0, 1, 0], "fovy": 50},\n'
-                    '  "materials": [{"name": "grey", "diffuse": [0.7, 0.7, 0.7]}],\n'
+                    '  "materials": [{"name": "grey", "diffuse": [0.7, 0.7, 0.7]},\n'
+                    '                {"name": "mirror", "diffuse": [0.05, 0.05, 0.05], '
+                    '"specular": [0.9, 0.9, 0.9], "shininess": 200, "mirror": 0.9}],\n'
                     '  "lights": [{"type": "omni", "position": [3, 5, 4], "color": [1, 1, 1], '
                     '"intensity": 40}],\n  "meshes": [\n    ' + ",\n    ".join(meshes) + "\n  ]\n}\n")
 

@@ -281,6 +281,32 @@ TEST(Render, EveryExactTracerGivesTheSameImage) {
     }
 }
 
+TEST(Render, RttLooseRaysThroughTheBvhGiveTheSameImage) {
+    // Reflections off the mirror sphere are tiles that are no shaft; once rtt's BVH is built
+    // (here by a call with arbitrary rays) they and their shadow segments go through it.
+    const Fixture f(make_test_scene());
+    const KdTree tree = build_kdtree(f.scene);
+    RenderOptions o = options(64, 48, 2);
+    o.hits_buffer = o.shadow_buffer = true;
+    const RenderResult expected = render(f.scene, *f.tracer, o);
+    const std::unique_ptr<Tracer> rtt = make_tracer("rtt", f.scene, tree);
+    const RenderResult before = render(f.scene, *rtt, o);
+    const Ray probe{{0.f, 1.f, 3.f}, {0.f, 0.f, -1.f}};
+    Hit hit;
+    intersect_rays(*rtt, std::span(&probe, 1), std::span(&hit, 1));
+    const RenderResult after = render(f.scene, *rtt, o);
+    EXPECT_EQ(before.stats.secondary.rtt.bvh_rays, 0u);
+    EXPECT_GT(after.stats.secondary.rtt.bvh_rays, 0u);
+    EXPECT_GT(after.stats.shadow.rtt.bvh_rays, 0u);
+    for (const RenderResult* r : {&before, &after}) {
+        EXPECT_EQ(r->hits, expected.hits);
+        EXPECT_EQ(r->shadows, expected.shadows);
+        EXPECT_EQ(
+            std::memcmp(r->pixels.data(), expected.pixels.data(), r->pixels.size() * sizeof(Vec3f)),
+            0);
+    }
+}
+
 TEST(Render, ThreadCountDoesNotChangeAnything) {
     const Fixture f(make_test_scene());
     RenderOptions o = options(90, 70, 2);

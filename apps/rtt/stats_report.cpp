@@ -25,6 +25,7 @@ nlohmann::json kind_json(const KindStats& k) {
             {"relevant_sum", r.relevant_sum},
             {"open_tiles", r.open_tiles},
             {"empty_tiles", r.empty_tiles},
+            {"bvh_rays", r.bvh_rays},
             {"declined", declined},
             {"avg_relevant", r.avg_relevant()},
             {"seconds", k.seconds},
@@ -91,9 +92,11 @@ void print_stats(std::FILE* out, const RenderJobResult& r) {
         const double fallback = t.fallback_seconds();
         std::fprintf(out,
                      "%s time split: %.3f s in the tiles' answers, corners and walks (%llu rays "
-                     "answered); %.3f s in the fallback (%llu rays traced, corners included)\n",
+                     "answered); %.3f s in the fallback (%llu rays traced, corners included; "
+                     "%llu of them one by one through the BVH)\n",
                      row.name, row.stats->seconds - fallback, (unsigned long long)t.answered,
-                     fallback, (unsigned long long)row.stats->trace.traced);
+                     fallback, (unsigned long long)row.stats->trace.traced,
+                     (unsigned long long)t.bvh_rays);
     }
     if (s.primary.rtt.open_tiles)
         std::fprintf(out,

@@ -34,17 +34,20 @@ struct RttStats {
     /// Nanoseconds, summed over threads, spent tracing the rays not answered (declined tiles
     /// and refused rays); the rest of RTT's time went to answered tiles.
     uint64_t fallback_ns = 0;
+    /// Of the rays traced, those of tiles that are no shaft (reflections off curved mirrors,
+    /// their shadow segments) that went one by one through the BVH rather than as packets.
+    uint64_t bvh_rays = 0;
 
     /// Every counter, for code that adds or ships them all (sums, MPI ranks).
-    std::array<uint64_t*, 11> counters() {
+    std::array<uint64_t*, 12> counters() {
         return {&rtt_tiles,     &answered,         &relevant_sum, &open_tiles,
                 &empty_tiles,   &declined_shaft,   &declined_end, &declined_budget,
-                &declined_list, &declined_corners, &fallback_ns};
+                &declined_list, &declined_corners, &fallback_ns,  &bvh_rays};
     }
-    std::array<uint64_t, 11> counter_values() const {
+    std::array<uint64_t, 12> counter_values() const {
         return {rtt_tiles,     answered,         relevant_sum, open_tiles,
                 empty_tiles,   declined_shaft,   declined_end, declined_budget,
-                declined_list, declined_corners, fallback_ns};
+                declined_list, declined_corners, fallback_ns,  bvh_rays};
     }
     RttStats& operator+=(const RttStats& o) {
         const auto values = o.counter_values();

@@ -13,6 +13,7 @@
 #include "rtt/error.h"
 #include "trace/factories.h"
 #include "trace/packet_blocks.h"
+#include "trace/trace_bvh.h"
 #include "trace/trace_frustum.h"
 #include "trace/trace_packet.h"
 #include "trace/traced_tile.h"
@@ -31,7 +32,12 @@ void RttTracer::intersect(const RayTile& tile, std::span<Hit> hits,
     for (SampleAnswer& a : answers) a = SampleAnswer::traced;
     if (!shaft_tile(tile.shaft, tile.width, tile.height, tile.rays.size())) {
         const FallbackClock clock(st.fallback_ns);
-        trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
+        if (!tile.shaft && spread(tile.rays) && bvh_pays(tile.rays.size())) {
+            trace_bvh_rays(bvh(), tile.rays, hits);
+            st.bvh_rays += uint64_t(n);
+        } else {
+            trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
+        }
         count_decline(st, Decline::no_shaft);
     } else {
         intersect_shaft(tile, hits, answers, st);
@@ -42,8 +48,26 @@ void RttTracer::intersect(const RayTile& tile, std::span<Hit> hits,
 const Bvh<bvh_width>& RttTracer::bvh() const {
     std::call_once(bvh_once_, [&] {
         bvh_ = std::make_unique<const Bvh<bvh_width>>(build_bvh<bvh_width>(triangles_));
+        bvh_built_.store(true, std::memory_order_release);
     });
     return *bvh_;
+}
+
+bool RttTracer::spread(std::span<const Ray> rays) {
+    // Packets pay while their rays' directions stay within a narrow cone about the first one.
+    const Vec3f d0 = rays.empty() ? Vec3f{} : rays[0].dir;
+    const float len0 = length(d0);
+    for (const Ray& r : rays)
+        if (!(dot(r.dir, d0) >= loose_cos_max * length(r.dir) * len0)) return true;
+    return false;
+}
+
+bool RttTracer::bvh_pays(size_t rays) const {
+    if (bvh_built_.load(std::memory_order_acquire)) return true;
+    // Once such rays reach loose_rays_per_triangle per triangle, the build has cost about what
+    // tracing them one by one saved.
+    const uint64_t seen = loose_rays_.fetch_add(rays, std::memory_order_relaxed) + rays;
+    return double(seen) >= loose_rays_per_triangle * double(triangles_.size());
 }
 
 void RttTracer::intersect_arbitrary(std::span<const Ray> rays, std::span<Hit> hits,

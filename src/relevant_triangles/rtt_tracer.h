@@ -25,6 +25,7 @@
 // This header: the tracer's class and shared constants (internal to this folder).
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <memory>
 #include <mutex>
@@ -70,6 +71,11 @@ inline constexpr int inner_width = simd_max_width;
 /// Packet width of the fallback for rays RTT does not answer: the widest packets, whose
 /// tracer is the fastest (4x4 samples per packet with AVX-512).
 inline constexpr int fallback_width = simd_max_width;
+/// Tiles that are no shaft: cosine of the widest angle from the first ray's direction that
+/// still goes as packets, and the spread rays per triangle after which the BVH is built for
+/// them (RttTracer::spread, bvh_pays; measured in docs/benchmarks.md, "Loose rays").
+inline constexpr float loose_cos_max = 0.99619f;  // cos(5 degrees)
+inline constexpr double loose_rays_per_triangle = 10.0;
 // The budgets and the lean pass's extent are RttOptions (include/rtt/rtt_options.h); the
 // defaults there were measured in docs/benchmarks.md ("The lean corner pass at K = 2", "What an
 // answered tile costs"). Cost rules, not exactness ones.
@@ -157,6 +163,12 @@ public:
 
 private:
     const Bvh<bvh_width>& bvh() const;
+    // Tiles that are no shaft (reflections off curved mirrors, their shadow segments) go one
+    // ray at a time through the BVH rather than as packets through the kd-tree when it is
+    // built or has paid for its build; reflected rays only when their directions spread too
+    // widely for packets (docs/benchmarks.md, "Loose rays").
+    static bool spread(std::span<const Ray> rays);
+    bool bvh_pays(size_t rays) const;
     static bool shaft_tile(bool shaft, int width, int height, size_t n) {
         return shaft && width >= 2 && height >= 2 && size_t(width) * size_t(height) == n &&
                n <= size_t(rtt_max_tile_samples);
@@ -236,6 +248,8 @@ private:
     bool extended_;
     mutable std::once_flag bvh_once_;
     mutable std::unique_ptr<const Bvh<bvh_width>> bvh_;
+    mutable std::atomic<bool> bvh_built_{false};
+    mutable std::atomic<uint64_t> loose_rays_{0};  ///< Spread rays of tiles that are no shaft.
 };
 
 }  // namespace rtt_detail

@@ -9,6 +9,7 @@
 #include "relevant_triangles/walk.h"
 #include "simd/lane_bytes.h"
 #include "trace/packet_blocks.h"
+#include "trace/trace_bvh.h"
 #include "trace/trace_packet.h"
 
 namespace rtt {
@@ -54,7 +55,15 @@ void RttTracer::occluded(const SegmentTile& tile, std::span<uint8_t> visible,
     if (active_count == 0) {
     } else if (!shaft_tile(tile.shaft, tile.width, tile.height, tile.points.size())) {
         const FallbackClock clock(st.fallback_ns);
-        occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
+        if (!tile.shaft && bvh_pays(active_count)) {
+            const Bvh<bvh_width>& b = bvh();
+            for (int i = 0; i < n; ++i)
+                if (tile.active[i])
+                    visible[i] = !occluded_bvh(b, shadow_ray(tile.light, tile.points[i]));
+            st.bvh_rays += active_count;
+        } else {
+            occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
+        }
         count_decline(st, Decline::no_shaft);
     } else {
         occluded_shaft(tile, visible, answers, st);
