@@ -9,10 +9,11 @@
 
 #include <algorithm>
 #include <array>
-#include <numeric>
+#include <bit>
 
 #include "bvh/bvh.h"
 #include "rtt/error.h"
+#include "simd/simd.h"
 #include "trace/trace_ray.h"
 
 namespace rtt {
@@ -30,16 +31,77 @@ struct BinaryNode {
     uint32_t first = 0, count = 0;  // leaf: range of refs (count > 0)
 };
 
+/// A box as two vectors (x, y, z, -): what every pass of the build extends and compares.
+struct Box4 {
+    vfloat4 lo{pos_inf}, hi{neg_inf};
+    RTT_FORCEINLINE void extend(vfloat4 l, vfloat4 h) {
+        lo = min(lo, l);
+        hi = max(hi, h);
+    }
+    void extend(const Box4& b) { extend(b.lo, b.hi); }
+    bool empty() const { return !(lo[0] <= hi[0]); }
+    float half_area() const {
+        const vfloat4 d = hi - lo;
+        return d[0] * d[1] + d[0] * d[2] + d[1] * d[2];
+    }
+    Bbox3f box() const {
+        Bbox3f b;
+        b.lo = {lo[0], lo[1], lo[2]};
+        b.hi = {hi[0], hi[1], hi[2]};
+        return b;
+    }
+};
+
+/// A triangle's bounds, partitioned in place as the tree is built (sequential passes, no
+/// gather through an index). Lane 3 of lo holds the triangle's index, of hi 0.
+struct alignas(32) PrimRef {
+    alignas(16) float lo[4];
+    alignas(16) float hi[4];
+    uint32_t id() const { return std::bit_cast<uint32_t>(lo[3]); }
+    /// lo + hi, twice the centroid (the index masked out of lane 3).
+    RTT_FORCEINLINE vfloat4 centroid2() const {
+        const vint4 xyz(_mm_setr_epi32(-1, -1, -1, 0));
+        return as_float(as_int(vfloat4::load(lo)) & xyz) + vfloat4::load(hi);
+    }
+};
+
+/// The bounds of a node's references and of their (doubled) centroids.
+struct Extent {
+    Box4 box, centroids;
+    RTT_FORCEINLINE void add(const PrimRef& r) {
+        box.extend(vfloat4::load(r.lo), vfloat4::load(r.hi));
+        const vfloat4 c = r.centroid2();
+        centroids.extend(c, c);
+    }
+    void merge(const Extent& o) {
+        box.extend(o.box);
+        centroids.extend(o.centroids);
+    }
+};
+
+/// Where doubled centroids fall among `bins` equal bins per axis of a node's centroid bounds.
+/// NaN (0 * inf from a zero or denormal extent, inf - inf from huge coordinates) goes to bin 0,
+/// the same when binning and when partitioning.
+struct BinMap {
+    vfloat4 lo, scale;
+    explicit BinMap(const Box4& centroids)
+        : lo(centroids.lo), scale(vfloat4(float(bins)) / (centroids.hi - centroids.lo)) {}
+    RTT_FORCEINLINE vint4 operator()(vfloat4 c) const {
+        // maxps returns its second operand for NaN: max(NaN, 0) = 0.
+        return truncate_to_int(min(max((c - lo) * scale, vfloat4(0.f)), vfloat4(float(bins - 1))));
+    }
+};
+
 /// Per axis, the bounds and counts of the references whose centroid falls in each bin.
 struct Bins {
-    std::array<std::array<Bbox3f, bins>, 3> box{};
+    std::array<std::array<Box4, bins>, 3> box{};
     std::array<std::array<uint32_t, bins>, 3> count{};
 
     void merge(const Bins& o) {
-        for (int a = 0; a < 3; ++a)
-            for (int b = 0; b < bins; ++b) {
-                box[size_t(a)][size_t(b)].extend(o.box[size_t(a)][size_t(b)]);
-                count[size_t(a)][size_t(b)] += o.count[size_t(a)][size_t(b)];
+        for (size_t a = 0; a < 3; ++a)
+            for (size_t b = 0; b < bins; ++b) {
+                box[a][b].extend(o.box[a][b]);
+                count[a][b] += o.count[a][b];
             }
     }
 };
@@ -63,18 +125,18 @@ T reduce_range(uint32_t first, uint32_t end, F&& f, M&& merge) {
 
 class BinaryBuilder {
 public:
-    explicit BinaryBuilder(std::span<const TriangleVerts> tris)
-        : refs_(tris.size()), boxes_(tris.size()), centers_(tris.size()) {
-        std::iota(refs_.begin(), refs_.end(), 0u);
+    explicit BinaryBuilder(std::span<const TriangleVerts> tris) : refs_(tris.size()) {
         tbb::parallel_for(tbb::blocked_range<size_t>(0, tris.size(), 4096),
                           [&](const tbb::blocked_range<size_t>& r) {
                               for (size_t i = r.begin(); i < r.end(); ++i) {
-                                  Bbox3f box;
-                                  box.extend(tris[i].v0);
-                                  box.extend(tris[i].v1);
-                                  box.extend(tris[i].v2);
-                                  boxes_[i] = box;
-                                  centers_[i] = box.center();
+                                  const TriangleVerts& t = tris[i];
+                                  PrimRef& p = refs_[i];
+                                  for (int a = 0; a < 3; ++a) {
+                                      p.lo[a] = std::min(std::min(t.v0[a], t.v1[a]), t.v2[a]);
+                                      p.hi[a] = std::max(std::max(t.v0[a], t.v1[a]), t.v2[a]);
+                                  }
+                                  p.lo[3] = std::bit_cast<float>(uint32_t(i));
+                                  p.hi[3] = 0.f;
                               }
                           });
     }
@@ -82,49 +144,38 @@ public:
     /// The binary tree; node 0 is the root. Slots of refs that ended in a leaf early stay unused.
     std::vector<BinaryNode> build() {
         nodes_.resize(2 * refs_.size() - 1);
-        split(0, 0, uint32_t(refs_.size()), 0);
-        return std::move(nodes_);
-    }
-    const std::vector<uint32_t>& refs() const { return refs_; }
-
-private:
-    struct Extent {
-        Bbox3f box, centers;
-    };
-
-    Extent extent(uint32_t first, uint32_t end) const {
-        return reduce_range<Extent>(
-            first, end,
+        const Extent root = reduce_range<Extent>(
+            0, uint32_t(refs_.size()),
             [&](uint32_t lo, uint32_t hi) {
                 Extent e;
-                for (uint32_t i = lo; i < hi; ++i) {
-                    e.box.extend(boxes_[refs_[i]]);
-                    e.centers.extend(centers_[refs_[i]]);
-                }
+                for (uint32_t i = lo; i < hi; ++i) e.add(refs_[i]);
                 return e;
             },
-            [](Extent& a, const Extent& b) {
-                a.box.extend(b.box);
-                a.centers.extend(b.centers);
-            });
+            [](Extent& a, const Extent& b) { a.merge(b); });
+        split(0, 0, uint32_t(refs_.size()), 0, root);
+        return std::move(nodes_);
+    }
+    /// The triangles in leaf order: leaf [first, first + count) lists ids [first, ...).
+    std::vector<uint32_t> refs() const {
+        std::vector<uint32_t> ids(refs_.size());
+        for (size_t i = 0; i < refs_.size(); ++i) ids[i] = refs_[i].id();
+        return ids;
     }
 
-    Bins bin_all(uint32_t first, uint32_t end, const Bbox3f& cbox) const {
-        float lo[3], scale[3];
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = cbox.lo[a];
-            scale[a] = float(bins) / (cbox.hi[a] - lo[a]);
-        }
+private:
+    Bins bin_all(uint32_t first, uint32_t end, const BinMap& map) const {
         return reduce_range<Bins>(
             first, end,
             [&](uint32_t from, uint32_t to) {
                 Bins out;
+                alignas(16) int32_t b[4];
                 for (uint32_t i = from; i < to; ++i) {
-                    const uint32_t r = refs_[i];
-                    for (int a = 0; a < 3; ++a) {
-                        const size_t b = size_t(bin_of(centers_[r][a], lo[a], scale[a]));
-                        out.box[size_t(a)][b].extend(boxes_[r]);
-                        ++out.count[size_t(a)][b];
+                    const PrimRef& r = refs_[i];
+                    store(b, map(r.centroid2()));
+                    const vfloat4 lo = vfloat4::load(r.lo), hi = vfloat4::load(r.hi);
+                    for (size_t a = 0; a < 3; ++a) {
+                        out.box[a][size_t(b[a])].extend(lo, hi);
+                        ++out.count[a][size_t(b[a])];
                     }
                 }
                 return out;
@@ -132,14 +183,25 @@ private:
             [](Bins& x, const Bins& y) { x.merge(y); });
     }
 
-    // Node `index` over refs [first, end): a leaf, or split by the cheapest bin boundary. Its
-    // subtree owns the slots [index, index + 2 (end - first) - 1): the left child's subtree
-    // starts at index + 1, the right one's at index + 2 (mid - first).
-    void split(uint32_t index, uint32_t first, uint32_t end, int depth) {
-        const Extent ext = extent(first, end);
-        const Bbox3f& box = ext.box;
-        const Bbox3f& cbox = ext.centers;
-        nodes_[index].box = box;
+    /// Moves the references of [first, end) whose bin along `axis` is below `bin` to the front;
+    /// returns where the rest start, with both sides' extents.
+    uint32_t partition(uint32_t first, uint32_t end, const BinMap& map, int axis, int bin,
+                       Extent& left, Extent& right) {
+        const auto goes_left = [&](const PrimRef& r) { return map(r.centroid2())[axis] < bin; };
+        uint32_t i = first, j = end;
+        for (;;) {
+            while (i < j && goes_left(refs_[i])) left.add(refs_[i++]);
+            while (i < j && !goes_left(refs_[j - 1])) right.add(refs_[--j]);
+            if (i >= j) return i;
+            std::swap(refs_[i], refs_[j - 1]);
+        }
+    }
+
+    // Node `index` over refs [first, end) with extent `ext`: a leaf, or split by the cheapest
+    // bin boundary. Its subtree owns the slots [index, index + 2 (end - first) - 1): the left
+    // child's subtree starts at index + 1, the right one's at index + 2 (mid - first).
+    void split(uint32_t index, uint32_t first, uint32_t end, int depth, const Extent& ext) {
+        nodes_[index].box = ext.box.box();
         const uint32_t n = end - first;
         const auto make_leaf = [&] {
             nodes_[index].first = first;
@@ -148,18 +210,20 @@ private:
         if (n <= 2) return make_leaf();
         int best_axis = -1, best_bin = 0;
         float best_cost = intersection_cost * blocks_of(n);
+        const BinMap map(ext.centroids);
         // Past sah_depth only halves: the tree (and the traversal's stack) stays shallow
         // whatever the input (bvh_max_depth).
         if (depth < sah_depth) {
-            const Bins all = bin_all(first, end, cbox);
+            const Bins all = bin_all(first, end, map);
+            const float parent = ext.box.half_area();
             for (int a = 0; a < 3; ++a) {
-                if (!(cbox.hi[a] - cbox.lo[a] > 0.f)) continue;
+                if (!(ext.centroids.hi[a] - ext.centroids.lo[a] > 0.f)) continue;
                 const auto& bb = all.box[size_t(a)];
                 const auto& bc = all.count[size_t(a)];
                 // Sweep: areas and counts to the right of each boundary, then to the left.
                 std::array<float, bins> right_area{};
                 std::array<uint32_t, bins> right_count{};
-                Bbox3f r;
+                Box4 r;
                 uint32_t rc = 0;
                 for (int b = bins - 1; b > 0; --b) {
                     r.extend(bb[size_t(b)]);
@@ -167,9 +231,8 @@ private:
                     right_area[size_t(b)] = r.empty() ? 0.f : r.half_area();
                     right_count[size_t(b)] = rc;
                 }
-                Bbox3f l;
+                Box4 l;
                 uint32_t lc = 0;
-                const float parent = box.half_area();
                 for (int b = 1; b < bins; ++b) {
                     l.extend(bb[size_t(b - 1)]);
                     lc += bc[size_t(b - 1)];
@@ -189,54 +252,39 @@ private:
             }
         }
         uint32_t mid;
+        Extent left, right;
         if (best_axis >= 0) {
-            const float lo = cbox.lo[best_axis];
-            const float scale = float(bins) / (cbox.hi[best_axis] - lo);
-            mid = uint32_t(std::partition(refs_.begin() + first, refs_.begin() + end,
-                                          [&](uint32_t r) {
-                                              return bin_of(centers_[r][best_axis], lo, scale) <
-                                                     best_bin;
-                                          }) -
-                           refs_.begin());
+            mid = partition(first, end, map, best_axis, best_bin, left, right);
         } else if (n <= bvh_leaf_max) {
             return make_leaf();
         } else {  // no useful split (centroids coincide) or too deep: halves by centroid order
-            const int a = cbox.diagonal().x >= cbox.diagonal().y
-                              ? (cbox.diagonal().x >= cbox.diagonal().z ? 0 : 2)
-                              : (cbox.diagonal().y >= cbox.diagonal().z ? 1 : 2);
+            const vfloat4 d = ext.centroids.hi - ext.centroids.lo;
+            const int a = d[0] >= d[1] ? (d[0] >= d[2] ? 0 : 2) : (d[1] >= d[2] ? 1 : 2);
             mid = first + n / 2;
             std::nth_element(refs_.begin() + first, refs_.begin() + mid, refs_.begin() + end,
-                             [&](uint32_t x, uint32_t y) {
-                                 return centers_[x][a] < centers_[y][a] ||
-                                        (centers_[x][a] == centers_[y][a] && x < y);
+                             [&](const PrimRef& x, const PrimRef& y) {
+                                 const float cx = x.centroid2()[a], cy = y.centroid2()[a];
+                                 return cx < cy || (cx == cy && x.id() < y.id());
                              });
+            for (uint32_t i = first; i < mid; ++i) left.add(refs_[i]);
+            for (uint32_t i = mid; i < end; ++i) right.add(refs_[i]);
         }
-        const uint32_t left = index + 1, right = index + 2 * (mid - first);
-        nodes_[index].left = left;
-        nodes_[index].right = right;
+        const uint32_t li = index + 1, ri = index + 2 * (mid - first);
+        nodes_[index].left = li;
+        nodes_[index].right = ri;
         if (n >= parallel_refs)
-            tbb::parallel_invoke([&] { split(left, first, mid, depth + 1); },
-                                 [&] { split(right, mid, end, depth + 1); });
+            tbb::parallel_invoke([&] { split(li, first, mid, depth + 1, left); },
+                                 [&] { split(ri, mid, end, depth + 1, right); });
         else {
-            split(left, first, mid, depth + 1);
-            split(right, mid, end, depth + 1);
+            split(li, first, mid, depth + 1, left);
+            split(ri, mid, end, depth + 1, right);
         }
     }
 
     // Leaves test four triangles at once: the SAH counts blocks of four.
     static float blocks_of(uint32_t n) { return float((n + 3) / 4); }
 
-    // NaN (0 * inf from a denormal extent, inf - inf from huge coordinates) goes to bin 0,
-    // the same in the SAH sweep and the partition.
-    static int bin_of(float c, float lo, float scale) {
-        const float x = (c - lo) * scale;
-        if (!(x >= 0.f)) return 0;
-        return x < float(bins - 1) ? int(x) : bins - 1;
-    }
-
-    std::vector<uint32_t> refs_;
-    std::vector<Bbox3f> boxes_;
-    std::vector<Vec3f> centers_;
+    std::vector<PrimRef> refs_;
     std::vector<BinaryNode> nodes_;
 };
 
@@ -316,7 +364,7 @@ Bvh<W> build_bvh(std::span<const TriangleVerts> triangles) {
     BinaryBuilder builder(triangles);
     const std::vector<BinaryNode> bin = builder.build();
     out.padded_bounds = padded_bounds(bin[0].box);
-    const std::vector<uint32_t>& refs = builder.refs();
+    const std::vector<uint32_t> refs = builder.refs();
     out.blocks.reserve(triangles.size() / 2);
     out.nodes.emplace_back();
     if (bin[0].count > 0) {  // the whole scene is one leaf: a root with one leaf child
