@@ -155,12 +155,8 @@ public:
         split(0, 0, uint32_t(refs_.size()), 0, root);
         return std::move(nodes_);
     }
-    /// The triangles in leaf order: leaf [first, first + count) lists ids [first, ...).
-    std::vector<uint32_t> refs() const {
-        std::vector<uint32_t> ids(refs_.size());
-        for (size_t i = 0; i < refs_.size(); ++i) ids[i] = refs_[i].id();
-        return ids;
-    }
+    /// The references in leaf order: a leaf [first, first + count) lists refs [first, ...).
+    const std::vector<PrimRef>& refs() const { return refs_; }
 
 private:
     Bins bin_all(uint32_t first, uint32_t end, const BinMap& map) const {
@@ -290,15 +286,15 @@ private:
 
 // The leaf child of refs [first, first + count): its triangles appended as blocks of four.
 template <int W>
-uint32_t leaf_child(std::span<const TriangleVerts> tris, const std::vector<uint32_t>& refs,
+uint32_t leaf_child(std::span<const TriangleVerts> tris, std::span<const PrimRef> refs,
                     uint32_t first, uint32_t count, Bvh<W>& out) {
     const uint32_t block = uint32_t(out.blocks.size()), blocks = (count + 3) / 4;
     for (uint32_t b = 0; b < blocks; ++b) {
         BvhTriangles4 q{};
         for (uint32_t l = 0; l < 4; ++l) {
             const uint32_t k = b * 4 + l;
-            const uint32_t id = k < count ? refs[first + k] : invalid_triangle;
-            const TriangleVerts& t = tris[k < count ? id : refs[first]];
+            const uint32_t id = k < count ? refs[first + k].id() : invalid_triangle;
+            const TriangleVerts& t = tris[k < count ? id : refs[first].id()];
             for (int a = 0; a < 3; ++a) {
                 q.v0[a][l] = t.v0[a];
                 q.v1[a][l] = t.v1[a];
@@ -313,7 +309,7 @@ uint32_t leaf_child(std::span<const TriangleVerts> tris, const std::vector<uint3
 
 // Writes the W-wide node for binary node `b` (an inner node) at `out.nodes[index]`.
 template <int W>
-void collapse(std::span<const TriangleVerts> tris, const std::vector<uint32_t>& refs,
+void collapse(std::span<const TriangleVerts> tris, std::span<const PrimRef> refs,
               const std::vector<BinaryNode>& bin, uint32_t b, uint32_t index, Bvh<W>& out) {
     std::array<uint32_t, W> kids{bin[b].left, bin[b].right};
     uint32_t n = 2;
@@ -364,7 +360,7 @@ Bvh<W> build_bvh(std::span<const TriangleVerts> triangles) {
     BinaryBuilder builder(triangles);
     const std::vector<BinaryNode> bin = builder.build();
     out.padded_bounds = padded_bounds(bin[0].box);
-    const std::vector<uint32_t> refs = builder.refs();
+    const std::span<const PrimRef> refs = builder.refs();
     out.blocks.reserve(triangles.size() / 2);
     out.nodes.emplace_back();
     if (bin[0].count > 0) {  // the whole scene is one leaf: a root with one leaf child

@@ -64,9 +64,11 @@ void AnswerMaps::validate(const RenderOptions& options, size_t light_count) cons
                     " does not exist (the scene has " + std::to_string(light_count) + " lights)");
     if (!options.shadows && shadow_light >= 0)
         throw Error("a shadow map needs shadow segments (shadows are off)");
-    require_memory(render_memory_bytes(options, *this), "image " + std::to_string(options.width) +
-                                                            "x" + std::to_string(options.height) +
-                                                            " with its answer maps");
+    // RenderOptions::validate checked the image and buffers; the maps add a byte per pixel each.
+    if (primary || shadow_light >= 0)
+        require_memory(render_memory_bytes(options, *this),
+                       "image " + std::to_string(options.width) + "x" +
+                           std::to_string(options.height) + " with its answer maps");
 }
 
 int default_region(int aa) {
