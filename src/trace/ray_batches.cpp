@@ -21,14 +21,17 @@ void check_rays(std::span<const Ray> rays, size_t outputs, const char* output) {
     if (outputs != rays.size())
         throw Error(std::string(output) + " holds " + std::to_string(outputs) + " entries for " +
                     std::to_string(rays.size()) + " rays");
+    // The message is made only for a bad ray: a string per ray cost as much as a BVH node test.
+    const auto fail = [](size_t i, const char* what) {
+        throw Error("ray " + std::to_string(i) + what);
+    };
     for (size_t i = 0; i < rays.size(); ++i) {
         const Ray& r = rays[i];
-        const std::string which = "ray " + std::to_string(i);
         if (!is_finite(r.org) || !is_finite(r.dir))
-            throw Error(which + " has a NaN or infinite origin or direction");
-        if (r.dir == Vec3f{0.f}) throw Error(which + " has a zero direction");
+            fail(i, " has a NaN or infinite origin or direction");
+        if (r.dir == Vec3f{0.f}) fail(i, " has a zero direction");
         if (std::isnan(r.tmin) || std::isnan(r.tmax) || !(r.tmin <= r.tmax))
-            throw Error(which + " has tmin > tmax or a NaN bound");
+            fail(i, " has tmin > tmax or a NaN bound");
     }
 }
 
