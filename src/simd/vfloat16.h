@@ -114,6 +114,13 @@ RTT_FORCEINLINE vfloat16 max(vfloat16 a, vfloat16 b) {
 RTT_FORCEINLINE vfloat16 select(vbool16 m, vfloat16 t, vfloat16 f) {
     return _mm512_mask_blend_ps(m, f, t);
 }
+/// a * b - c and a * b + c in one rounding (vfloat4.h's mul_sub, which says when to use it).
+RTT_FORCEINLINE vfloat16 mul_sub(vfloat16 a, vfloat16 b, vfloat16 c) {
+    return _mm512_fmsub_ps(a, b, c);
+}
+RTT_FORCEINLINE vfloat16 mul_add(vfloat16 a, vfloat16 b, vfloat16 c) {
+    return _mm512_fmadd_ps(a, b, c);
+}
 RTT_FORCEINLINE vfloat16 abs(vfloat16 a) {
     return _mm512_castsi512_ps(
         _mm512_and_si512(_mm512_castps_si512(a), _mm512_set1_epi32(INT32_MAX)));

@@ -112,6 +112,23 @@ RTT_FORCEINLINE vfloat4 max(vfloat4 a, vfloat4 b) {
 RTT_FORCEINLINE vfloat4 select(vbool4 m, vfloat4 t, vfloat4 f) {
     return _mm_blendv_ps(f, t, m);
 }
+/// a * b - c and a * b + c: one rounding where the target has FMA, two (product, then sum)
+/// where it does not. Only for bounds that tolerate either; -ffp-contract=off keeps every other
+/// product rounded on its own.
+RTT_FORCEINLINE vfloat4 mul_sub(vfloat4 a, vfloat4 b, vfloat4 c) {
+#ifdef __FMA__
+    return _mm_fmsub_ps(a, b, c);
+#else
+    return a * b - c;
+#endif
+}
+RTT_FORCEINLINE vfloat4 mul_add(vfloat4 a, vfloat4 b, vfloat4 c) {
+#ifdef __FMA__
+    return _mm_fmadd_ps(a, b, c);
+#else
+    return a * b + c;
+#endif
+}
 RTT_FORCEINLINE vfloat4 abs(vfloat4 a) {
     return _mm_andnot_ps(_mm_set1_ps(-0.f), a);
 }

@@ -102,6 +102,13 @@ RTT_FORCEINLINE vfloat8 max(vfloat8 a, vfloat8 b) {
 RTT_FORCEINLINE vfloat8 select(vbool8 m, vfloat8 t, vfloat8 f) {
     return _mm256_blendv_ps(f, t, m);
 }
+/// a * b - c and a * b + c in one rounding (vfloat4.h's mul_sub, which says when to use it).
+RTT_FORCEINLINE vfloat8 mul_sub(vfloat8 a, vfloat8 b, vfloat8 c) {
+    return _mm256_fmsub_ps(a, b, c);
+}
+RTT_FORCEINLINE vfloat8 mul_add(vfloat8 a, vfloat8 b, vfloat8 c) {
+    return _mm256_fmadd_ps(a, b, c);
+}
 RTT_FORCEINLINE vfloat8 abs(vfloat8 a) {
     return _mm256_andnot_ps(_mm256_set1_ps(-0.f), a);
 }

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <cstddef>
 
 #include "simd/simd.h"
 #include "trace/kernels.h"
@@ -22,24 +23,36 @@ namespace {
 template <int W>
 struct BoxRay {
     using vf = vfloat<W>;
-    vf org[3], inv[3];
-    vf t_scale;
-    int near_hi[3];  ///< The face a ray enters by on each axis: 1 = hi (dir < 0), 0 = lo.
-    bool flat[3];    ///< dir[a] == 0: a face distance is NaN when the ray lies in the face's plane.
-    bool free[3];    ///< |1 / dir[a]| beyond 2^40: the axis is left unbounded (never culls).
-    bool plain;      ///< No axis flat or free.
+    vf org[3], inv[3], org_inv[3];
+    /// The widening of a box's interval beyond its |t| part: 2 kd_margin times the scene's t
+    /// scale, grown to cover the rounding of face * inv - org * inv (docs/design.md, "The BVH
+    /// for arbitrary rays").
+    vf t_margin;
+    /// Byte offsets in a node of the faces a ray enters and leaves by on each axis (hi when
+    /// dir < 0): fixed per ray, so a node's test picks no faces.
+    uint32_t enter[3], leave[3];
+    bool flat[3];  ///< dir[a] == 0: a face distance is NaN when the ray lies in the face's plane.
+    bool free[3];  ///< |1 / dir[a]| beyond 2^40: the axis is left unbounded (never culls).
+    bool plain;    ///< No axis flat or free.
 
     BoxRay(const Ray& ray, const Bbox3f& bounds) {
+        float org_t = 0.f;  // the largest |org * inv| of the axes the fast test uses
         for (int a = 0; a < 3; ++a) {
             const float inv_a = 1.f / ray.dir[a];
             org[a] = vf(ray.org[a]);
             inv[a] = vf(inv_a);
-            near_hi[a] = ray.dir[a] < 0.f;
+            org_inv[a] = vf(ray.org[a] * inv_a);
+            const uint32_t lo = uint32_t(offsetof(BvhNode<W>, lo) + sizeof(float) * W * a);
+            const uint32_t hi = uint32_t(offsetof(BvhNode<W>, hi) + sizeof(float) * W * a);
+            enter[a] = ray.dir[a] < 0.f ? hi : lo;
+            leave[a] = ray.dir[a] < 0.f ? lo : hi;
             flat[a] = ray.dir[a] == 0.f;
             free[a] = !flat[a] && !(std::fabs(inv_a) <= 0x1p40f);
+            if (!flat[a] && !free[a]) org_t = std::max(org_t, std::fabs(ray.org[a] * inv_a));
         }
         plain = !(flat[0] || flat[1] || flat[2] || free[0] || free[1] || free[2]);
-        t_scale = vf(std::min(scene_t_scale(bounds, ray), FLT_MAX));
+        const float scale = std::min(scene_t_scale(bounds, ray), FLT_MAX) + org_t * 0x1p-6f;
+        t_margin = vf(2.f * kd_margin * std::min(scale, FLT_MAX));
     }
 
     /// Lanes of the node's children whose box the ray may meet in [tmin, tmax]; their entry
@@ -49,11 +62,12 @@ struct BoxRay {
         if (plain) [[likely]] {
             // dir[a] != 0: the entry face gives the smaller distance (a padding slot's +-inf
             // box gives tn = +inf, and the slot is masked anyway).
+            const char* base = reinterpret_cast<const char*>(&n);
             for (int a = 0; a < 3; ++a) {
-                const float* enter = near_hi[a] ? n.hi[a] : n.lo[a];
-                const float* leave = near_hi[a] ? n.lo[a] : n.hi[a];
-                tn = max(tn, (vf::load(enter) - org[a]) * inv[a]);
-                tf = min(tf, (vf::load(leave) - org[a]) * inv[a]);
+                const vf e = vf::load(reinterpret_cast<const float*>(base + enter[a]));
+                const vf l = vf::load(reinterpret_cast<const float*>(base + leave[a]));
+                tn = max(tn, mul_sub(e, inv[a], org_inv[a]));
+                tf = min(tf, mul_sub(l, inv[a], org_inv[a]));
             }
         } else {
             for (int a = 0; a < 3; ++a) {
@@ -70,11 +84,11 @@ struct BoxRay {
                 tf = min(tf, fa);
             }
         }
-        // The margin of trace_ray's split distances, from finite magnitudes (an infinite
-        // distance comes from a zero direction component and is exact).
-        const vf big(FLT_MAX), margin(kd_margin);
-        near = tn - (min(abs(tn), big) + t_scale) * margin;
-        const vf far = tf + (min(abs(tf), big) + t_scale) * margin;
+        // Widened by twice the margin of trace_ray's split distances: (1 -+ 2 kd_margin) scales
+        // |t| down or up whatever its sign; infinities stay infinite.
+        const vf shrink(1.f - 2.f * kd_margin), grow(1.f + 2.f * kd_margin);
+        near = min(mul_sub(tn, shrink, t_margin), mul_sub(tn, grow, t_margin));
+        const vf far = max(mul_add(tf, grow, t_margin), mul_add(tf, shrink, t_margin));
         const uint32_t used = (1u << n.count) - 1u;
         return movemask(max(near, vf(tmin)) <= min(far, vf(tmax))) & used;
     }
