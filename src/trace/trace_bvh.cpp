@@ -36,23 +36,29 @@ struct BoxRay {
     bool plain;    ///< No axis flat or free.
 
     BoxRay(const Ray& ray, const Bbox3f& bounds) {
-        float org_t = 0.f;  // the largest |org * inv| of the axes the fast test uses
+        // The three axes at once in lanes 0-2 (lane 3 a copy of z): one division, no branches.
+        const auto xyz = [](const Vec3f& v) { return vfloat4::setr(v.x, v.y, v.z, v.z); };
+        const vfloat4 o = xyz(ray.org), d = xyz(ray.dir), i = vfloat4(1.f) / d, oi = o * i;
+        const vbool4 zero = d == vfloat4(0.f), huge = !(abs(i) <= vfloat4(0x1p40f));
+        // The t scale of trace_ray.h's scene_t_scale, and the largest |org * inv| of the axes
+        // the fast test uses.
+        const vfloat4 dist = max(abs(xyz(bounds.lo) - o), abs(xyz(bounds.hi) - o));
+        const float scale = std::min(reduce_max(dist)[0] / reduce_max(abs(d))[0], FLT_MAX);
+        const float org_t = reduce_max(select(zero | huge, vfloat4(0.f), abs(oi)))[0];
+        t_margin = vf(2.f * kd_margin * std::min(scale + org_t * 0x1p-6f, FLT_MAX));
+        const uint32_t flat_bits = movemask(zero), free_bits = movemask(andnot(huge, zero));
+        plain = ((flat_bits | free_bits) & 7u) == 0;
         for (int a = 0; a < 3; ++a) {
-            const float inv_a = 1.f / ray.dir[a];
-            org[a] = vf(ray.org[a]);
-            inv[a] = vf(inv_a);
-            org_inv[a] = vf(ray.org[a] * inv_a);
+            org[a] = vf(o[a]);
+            inv[a] = vf(i[a]);
+            org_inv[a] = vf(oi[a]);
             const uint32_t lo = uint32_t(offsetof(BvhNode<W>, lo) + sizeof(float) * W * a);
             const uint32_t hi = uint32_t(offsetof(BvhNode<W>, hi) + sizeof(float) * W * a);
             enter[a] = ray.dir[a] < 0.f ? hi : lo;
             leave[a] = ray.dir[a] < 0.f ? lo : hi;
-            flat[a] = ray.dir[a] == 0.f;
-            free[a] = !flat[a] && !(std::fabs(inv_a) <= 0x1p40f);
-            if (!flat[a] && !free[a]) org_t = std::max(org_t, std::fabs(ray.org[a] * inv_a));
+            flat[a] = (flat_bits >> a) & 1u;
+            free[a] = (free_bits >> a) & 1u;
         }
-        plain = !(flat[0] || flat[1] || flat[2] || free[0] || free[1] || free[2]);
-        const float scale = std::min(scene_t_scale(bounds, ray), FLT_MAX) + org_t * 0x1p-6f;
-        t_margin = vf(2.f * kd_margin * std::min(scale, FLT_MAX));
     }
 
     /// Lanes of the node's children whose box the ray may meet in [tmin, tmax]; their entry
