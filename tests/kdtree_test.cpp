@@ -251,21 +251,29 @@ bool hits_degenerate_off_itself(const Tris& tris, const Ray& r) {
     return false;
 }
 
-/// Closest hit and any-hit of the reference tracer, and of the BVH's (this ISA's width), against
-/// brute force, ray by ray.
+/// Closest hit and any-hit of the reference tracer, and of the BVH's (this ISA's width, single
+/// rays and packets of consecutive rays), against brute force, ray by ray.
 Mismatches compare_with_brute_force(const KdTree& tree, const Tris& tris,
                                     const std::vector<Ray>& rays) {
     Mismatches m;
     const Bvh<bvh_width> bvh = build_bvh<bvh_width>(tris);
-    for (const Ray& r : rays) {
+    std::vector<Hit> packet_hits(rays.size());
+    std::vector<uint8_t> packet_visible(rays.size());
+    trace_bvh_packets(bvh, rays, packet_hits);
+    visible_bvh_packets(bvh, rays, packet_visible);
+    for (size_t i = 0; i < rays.size(); ++i) {
+        const Ray& r = rays[i];
         const Hit expect = trace_brute_force(tris, r);
         const Hit got = trace_ray(tree, tris, r);
         const Hit got_bvh = trace_bvh(bvh, r);
         m.hits += expect.valid();
         const bool blocked = occluded_brute_force(tris, r);
-        const bool closest_differs = !(got == expect) || !same_hit(got_bvh, expect);
-        const bool occluded_differs =
-            occluded_ray(tree, tris, r) != blocked || occluded_bvh(bvh, r) != blocked;
+        // The BVH's packets answer as its single rays, bit for bit.
+        const bool closest_differs =
+            !(got == expect) || !same_hit(got_bvh, expect) || !(packet_hits[i] == got_bvh);
+        const bool occluded_differs = occluded_ray(tree, tris, r) != blocked ||
+                                      occluded_bvh(bvh, r) != blocked ||
+                                      packet_visible[i] != !blocked;
         if ((closest_differs || occluded_differs) && hits_degenerate_off_itself(tris, r)) {
             ++m.excluded;
             continue;

@@ -229,16 +229,16 @@ public:
     explicit BvhTracer(const Scene& scene) : bvh_(build_bvh<W>(gather_triangles(scene))) {}
     std::string_view name() const override { return "bvh"; }
 
+    // A tile's rays travel together: packets (trace_bvh_packets.cpp).
     void intersect(const RayTile& tile, std::span<Hit> hits,
                    const TraceContext& context) const override {
-        intersect_one_by_one(tile, hits, context,
-                             [&](const Ray& ray) { return traverse<W, false>(bvh_, ray); });
+        trace_bvh_packets(bvh_, tile.rays, hits);
+        record_traced_tile(tile.rays.size(), context);
     }
 
     void occluded(const SegmentTile& tile, std::span<uint8_t> visible,
                   const TraceContext& context) const override {
-        occluded_one_by_one(tile, visible, context,
-                            [&](const Ray& ray) { return traverse<W, true>(bvh_, ray).valid(); });
+        record_traced_tile(visible_segment_packets(bvh_, tile, visible), context);
     }
 
     void intersect_arbitrary(std::span<const Ray> rays, std::span<Hit> hits,

@@ -6,6 +6,7 @@
 #include <span>
 
 #include "bvh/bvh.h"
+#include "rtt/tracer.h"
 #include "simd/isa.h"
 #include "simd/simd.h"
 
@@ -30,6 +31,22 @@ void trace_bvh_rays(const Bvh<W>& bvh, std::span<const Ray> rays, std::span<Hit>
 /// visible[i] = !occluded_bvh(rays[i]).
 template <int W>
 void visible_bvh_rays(const Bvh<W>& bvh, std::span<const Ray> rays, std::span<uint8_t> visible);
+
+/// trace_bvh_rays for rays that travel together (a tile's rows, one mirror's reflections):
+/// packets of the ISA's widest vector share each node's fetch and box test
+/// (trace_bvh_packets.cpp). Hits equal trace_bvh's. W = bvh_width.
+template <int W>
+void trace_bvh_packets(const Bvh<W>& bvh, std::span<const Ray> rays, std::span<Hit> hits);
+
+/// visible_bvh_rays in packets, as trace_bvh_packets.
+template <int W>
+void visible_bvh_packets(const Bvh<W>& bvh, std::span<const Ray> rays, std::span<uint8_t> visible);
+
+/// Whether each active segment of `tile` reaches its light (inactive ones: 0), in packets;
+/// returns the number of active segments.
+template <int W>
+uint64_t visible_segment_packets(const Bvh<W>& bvh, const SegmentTile& tile,
+                                 std::span<uint8_t> visible);
 
 }  // namespace RTT_ISA_NS
 }  // namespace rtt
