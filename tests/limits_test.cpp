@@ -18,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/large_arrays.h"
 #include "geom/triangle.h"
 #include "rtt/error.h"
 #include "rtt/kdtree.h"
@@ -424,3 +425,20 @@ TEST(Limits, KilledRunNeverLeavesATruncatedOutput) {
 
 }  // namespace
 }  // namespace rtt
+
+// The build's large arrays (core/large_arrays.h): 2 MiB-aligned above the threshold, their
+// element type's alignment below it, and ordinary vectors either way.
+TEST(Limits, LargeArraysKeepAlignmentAndContents) {
+    struct alignas(64) Line {
+        uint32_t v[16];
+    };
+    rtt::large_vector<Line> small(8), large(rtt::large_array_bytes / sizeof(Line) + 1);
+    EXPECT_EQ(reinterpret_cast<uintptr_t>(small.data()) % 64, 0u);
+    EXPECT_EQ(reinterpret_cast<uintptr_t>(large.data()) % (uintptr_t(2) << 20), 0u);
+    for (size_t i = 0; i < large.size(); ++i) large[i].v[i % 16] = uint32_t(i);
+    large.push_back(large[7]);  // grows: a new array, contents moved
+    size_t wrong = 0;
+    for (size_t i = 0; i + 1 < large.size(); ++i) wrong += large[i].v[i % 16] != uint32_t(i);
+    EXPECT_EQ(wrong, 0u);
+    EXPECT_EQ(large.back().v[7], 7u);
+}

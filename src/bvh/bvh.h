@@ -9,6 +9,7 @@
 #include <span>
 #include <vector>
 
+#include "core/large_arrays.h"
 #include "geom/triangle.h"
 #include "rtt/math.h"
 
@@ -38,8 +39,8 @@ inline constexpr int bvh_max_depth = 64 + 27;
 
 template <int W>
 struct Bvh {
-    std::vector<BvhNode<W>> nodes;      ///< nodes[0] is the root (when not empty).
-    std::vector<BvhTriangles4> blocks;  ///< The leaves' triangles, in leaf order.
+    large_vector<BvhNode<W>> nodes;      ///< nodes[0] is the root (when not empty).
+    large_vector<BvhTriangles4> blocks;  ///< The leaves' triangles, in leaf order.
     /// Of every triangle, padded as trace_ray pads the kd-tree's (the rays' split-margin scale).
     Bbox3f padded_bounds;
 };

@@ -143,7 +143,7 @@ public:
     }
 
     /// The binary tree; node 0 is the root. Slots of refs that ended in a leaf early stay unused.
-    std::vector<BinaryNode> build() {
+    large_vector<BinaryNode> build() {
         nodes_.resize(2 * refs_.size() - 1);
         const Extent root = reduce_range<Extent>(
             0, uint32_t(refs_.size()),
@@ -157,7 +157,7 @@ public:
         return std::move(nodes_);
     }
     /// The references in leaf order: a leaf [first, first + count) lists refs [first, ...).
-    const std::vector<PrimRef>& refs() const { return refs_; }
+    const large_vector<PrimRef>& refs() const { return refs_; }
 
 private:
     Bins bin_all(uint32_t first, uint32_t end, const BinMap& map) const {
@@ -281,8 +281,8 @@ private:
     // Leaves test four triangles at once: the SAH counts blocks of four.
     static float blocks_of(uint32_t n) { return float((n + 3) / 4); }
 
-    std::vector<PrimRef> refs_;
-    std::vector<BinaryNode> nodes_;
+    large_vector<PrimRef> refs_;
+    large_vector<BinaryNode> nodes_;
 };
 
 // The leaf child of refs [first, first + count): its triangles appended as blocks of four.
@@ -311,7 +311,7 @@ uint32_t leaf_child(std::span<const TriangleVerts> tris, std::span<const PrimRef
 // Writes the W-wide node for binary node `b` (an inner node) at `out.nodes[index]`.
 template <int W>
 void collapse(std::span<const TriangleVerts> tris, std::span<const PrimRef> refs,
-              const std::vector<BinaryNode>& bin, uint32_t b, uint32_t index, Bvh<W>& out) {
+              const large_vector<BinaryNode>& bin, uint32_t b, uint32_t index, Bvh<W>& out) {
     std::array<uint32_t, W> kids{bin[b].left, bin[b].right};
     uint32_t n = 2;
     while (n < W) {  // open the inner child with the largest surface
@@ -359,7 +359,7 @@ Bvh<W> build_bvh(std::span<const TriangleVerts> triangles) {
     Bvh<W> out;
     if (triangles.empty()) return out;
     BinaryBuilder builder(triangles);
-    const std::vector<BinaryNode> bin = builder.build();
+    const large_vector<BinaryNode> bin = builder.build();
     out.padded_bounds = padded_bounds(bin[0].box);
     const std::span<const PrimRef> refs = builder.refs();
     out.blocks.reserve(triangles.size() / 2);

@@ -40,6 +40,7 @@ namespace {
 using kd::SplitChoice;
 using kd::Subtree;
 using kd::TriBox;
+using kd::TriBoxes;
 
 /// Leaf references the whole tree may hold, per triangle. The SAH alone does not bound them:
 /// n thin triangles along x crossing n along y in one plane make every split cut through one
@@ -68,7 +69,7 @@ public:
         : triangles_(triangles), config_(config), max_depth_(max_depth) {}
 
     /// The tree over the node `box` holding `items` (consumed), in parallel.
-    std::unique_ptr<TopNode> build(std::vector<TriBox>&& items, const Bbox3f& box, int depth,
+    std::unique_ptr<TopNode> build(TriBoxes&& items, const Bbox3f& box, int depth,
                                    double budget) const {
         auto node = std::make_unique<TopNode>();
         const size_t n = items.size();
@@ -97,7 +98,7 @@ public:
         Bbox3f left_box = box, right_box = box;
         left_box.hi[split.axis] = split.pos;
         right_box.lo[split.axis] = split.pos;
-        std::vector<TriBox> left, right;
+        TriBoxes left, right;
         partition(std::move(items), split, box, left, right);
         const auto build_below = [&] {
             node->below =
@@ -123,11 +124,10 @@ private:
     /// and every leaf whose interior the triangle meets lists it (trace/trace_ray.h relies on it).
     /// Consumes `items`, released as soon as they are read: the build's peak memory is the
     /// largest node's triangles about twice, not three times.
-    void partition(std::vector<TriBox>&& items, const SplitChoice& split, const Bbox3f& box,
-                   std::vector<TriBox>& left, std::vector<TriBox>& right) const {
+    void partition(TriBoxes&& items, const SplitChoice& split, const Bbox3f& box, TriBoxes& left,
+                   TriBoxes& right) const {
         const size_t n = items.size();
-        const auto part = [&](size_t begin, size_t end, std::vector<TriBox>& l,
-                              std::vector<TriBox>& r) {
+        const auto part = [&](size_t begin, size_t end, TriBoxes& l, TriBoxes& r) {
             const int a = split.axis;
             const float p = split.pos;
             for (size_t i = begin; i < end; ++i) {
@@ -150,27 +150,27 @@ private:
             left.reserve(split.left_count);
             right.reserve(split.right_count);
             part(0, n, left, right);
-            std::vector<TriBox>().swap(items);
+            TriBoxes().swap(items);
             return;
         }
         const size_t chunks = (n + grain - 1) / grain;
-        std::vector<std::vector<TriBox>> lefts(chunks), rights(chunks);
+        std::vector<TriBoxes> lefts(chunks), rights(chunks);
         tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
             part(c * grain, std::min(n, (c + 1) * grain), lefts[c], rights[c]);
         });
-        std::vector<TriBox>().swap(items);
+        TriBoxes().swap(items);
         concatenate(lefts, left);
         concatenate(rights, right);
     }
 
     /// Appends the parts in order, releasing each once copied.
-    static void concatenate(std::vector<std::vector<TriBox>>& parts, std::vector<TriBox>& all) {
+    static void concatenate(std::vector<TriBoxes>& parts, TriBoxes& all) {
         size_t total = 0;
         for (const auto& part : parts) total += part.size();
         all.reserve(total);
         for (auto& part : parts) {
             all.insert(all.end(), part.begin(), part.end());
-            std::vector<TriBox>().swap(part);
+            TriBoxes().swap(part);
         }
     }
 
@@ -259,7 +259,7 @@ KdTree build_kdtree(const Scene& scene, const KdBuildConfig& config) {
     const size_t n = triangles.size();
 
     KdTree tree;
-    std::vector<TriBox> items(n);
+    TriBoxes items(n);
     tree.bounds = tbb::parallel_reduce(
         tbb::blocked_range<size_t>(0, n, grain), Bbox3f{},
         [&](const tbb::blocked_range<size_t>& r, Bbox3f bounds) {

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/large_arrays.h"
 #include "rtt/math.h"
 
 namespace rtt::kd {
@@ -39,5 +40,7 @@ struct TriBox {
     Bbox3f box;
     uint32_t tri;
 };
+/// The build's lists of them, on huge pages where they are large (core/large_arrays.h).
+using TriBoxes = large_vector<TriBox>;
 
 }  // namespace rtt::kd

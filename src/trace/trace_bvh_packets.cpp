@@ -28,8 +28,8 @@ struct PacketRays {
     Vec3v<K> org, dir;
     vf tmin, tmax;
     vf inv[3], org_inv[3];
-    vf t_margin;   ///< As trace_bvh.cpp's BoxRay::t_margin, per lane.
-    vb active;     ///< Lanes traced here.
+    vf t_margin;          ///< As trace_bvh.cpp's BoxRay::t_margin, per lane.
+    vb active;            ///< Lanes traced here.
     uint32_t single = 0;  ///< Lanes left to the single-ray kernel.
 
     PacketRays(std::span<const Ray> rays, const Bbox3f& bounds) {
@@ -194,8 +194,7 @@ void trace_bvh_packets(const Bvh<W>& bvh, std::span<const Ray> rays, std::span<H
 }
 
 template <int W>
-void visible_bvh_packets(const Bvh<W>& bvh, std::span<const Ray> rays,
-                         std::span<uint8_t> visible) {
+void visible_bvh_packets(const Bvh<W>& bvh, std::span<const Ray> rays, std::span<uint8_t> visible) {
     if (bvh.nodes.empty()) return std::fill(visible.begin(), visible.end(), uint8_t(1));
     for_each_packet(rays, [&](std::span<const Ray> part, size_t first) {
         const PacketRays p(part, bvh.padded_bounds);
