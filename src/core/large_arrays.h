@@ -25,7 +25,9 @@ struct LargeArrayAllocator {
     LargeArrayAllocator() = default;
     template <typename U>
     LargeArrayAllocator(const LargeArrayAllocator<U>&) noexcept {}
-    T* allocate(std::size_t n) { return static_cast<T*>(allocate_large(n * sizeof(T), alignof(T))); }
+    T* allocate(std::size_t n) {
+        return static_cast<T*>(allocate_large(n * sizeof(T), alignof(T)));
+    }
     void deallocate(T* p, std::size_t n) noexcept { free_large(p, n * sizeof(T), alignof(T)); }
     template <typename U>
     bool operator==(const LargeArrayAllocator<U>&) const noexcept {

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <bit>
 #include <cfloat>
+#include <cstddef>
 
 #include "geom/triangle_simd.h"
 #include "simd/simd.h"
@@ -28,7 +29,11 @@ struct PacketRays {
     Vec3v<K> org, dir;
     vf tmin, tmax;
     vf inv[3], org_inv[3];
-    vf t_margin;          ///< As trace_bvh.cpp's BoxRay::t_margin, per lane.
+    vf t_margin;  ///< As trace_bvh.cpp's BoxRay::t_margin, per lane.
+    /// Every traced lane's direction has one sign per axis: the faces each axis enters and
+    /// leaves by are then the packet's, at these byte offsets from a child's lo.x.
+    bool same_signs = false;
+    uint32_t enter[3] = {}, leave[3] = {};
     vb active;            ///< Lanes traced here.
     uint32_t single = 0;  ///< Lanes left to the single-ray kernel.
 
@@ -63,22 +68,45 @@ struct PacketRays {
         const uint32_t used = rays.size() >= size_t(K) ? ~0u >> (32 - K) : (1u << rays.size()) - 1u;
         single = movemask(odd) & used;
         active = vb::from_bits(used & ~single);
+        same_signs = true;
+        using Node = BvhNode<bvh_width>;
+        for (int a = 0; a < 3; ++a) {
+            const uint32_t traced = movemask(active), neg = signbits(*dv[a]) & traced;
+            same_signs &= neg == 0 || neg == traced;
+            const uint32_t lo = uint32_t(sizeof(float) * bvh_width * size_t(a));
+            const uint32_t hi = lo + uint32_t(offsetof(Node, hi) - offsetof(Node, lo));
+            enter[a] = neg ? hi : lo;
+            leave[a] = neg ? lo : hi;
+        }
         const vf scale = min(dist / dmax, vf(FLT_MAX)) + org_t * vf(0x1p-6f);
         t_margin = vf(2.f * kd_margin) * min(scale, vf(FLT_MAX));
     }
 
     /// Lanes of `lanes` whose widened interval in child `c`'s box meets [tmin, tmax]; their
     /// widened entry distances in `near`.
-    template <int W>
+    template <bool SameSigns, int W>
     RTT_FORCEINLINE vb test(const BvhNode<W>& n, int c, vb lanes, vf tmax_now, vf& near) const {
+        static_assert(W == bvh_width);
         vf tn = tmin, tf = tmax_now;
-        vf lo_t[3], hi_t[3];
-        for (int a = 0; a < 3; ++a) {
-            lo_t[a] = mul_sub(vf(n.lo[a][c]), inv[a], org_inv[a]);
-            hi_t[a] = mul_sub(vf(n.hi[a][c]), inv[a], org_inv[a]);
+        vf enter_t, leave_t;
+        if constexpr (SameSigns) {
+            const char* base = reinterpret_cast<const char*>(&n.lo[0][c]);
+            const auto face = [&](uint32_t offset, int a) {
+                const float f = *reinterpret_cast<const float*>(base + offset);
+                return mul_sub(vf(f), inv[a], org_inv[a]);
+            };
+            enter_t = max(max(face(enter[0], 0), face(enter[1], 1)), face(enter[2], 2));
+            leave_t = min(min(face(leave[0], 0), face(leave[1], 1)), face(leave[2], 2));
+        } else {
+            vf lo_t[3], hi_t[3];
+            for (int a = 0; a < 3; ++a) {
+                lo_t[a] = mul_sub(vf(n.lo[a][c]), inv[a], org_inv[a]);
+                hi_t[a] = mul_sub(vf(n.hi[a][c]), inv[a], org_inv[a]);
+            }
+            enter_t = max(max(min(lo_t[0], hi_t[0]), min(lo_t[1], hi_t[1])), min(lo_t[2], hi_t[2]));
+            leave_t = min(min(max(lo_t[0], hi_t[0]), max(lo_t[1], hi_t[1])), max(lo_t[2], hi_t[2]));
         }
-        vf enter = max(max(min(lo_t[0], hi_t[0]), min(lo_t[1], hi_t[1])), min(lo_t[2], hi_t[2]));
-        vf leave = min(min(max(lo_t[0], hi_t[0]), max(lo_t[1], hi_t[1])), max(lo_t[2], hi_t[2]));
+        const vf enter = enter_t, leave = leave_t;
         const vf shrink(1.f - 2.f * kd_margin), grow(1.f + 2.f * kd_margin);
         near = min(mul_sub(enter, shrink, t_margin), mul_sub(enter, grow, t_margin));
         const vf far = max(mul_add(leave, grow, t_margin), mul_add(leave, shrink, t_margin));
@@ -93,7 +121,7 @@ struct PacketEntry {
 };
 
 /// Closest hits (AnyHit: whether some triangle blocks) of the packet's active lanes.
-template <int W, bool AnyHit>
+template <int W, bool AnyHit, bool SameSigns>
 void traverse(const Bvh<W>& bvh, const PacketRays& rays, PacketHit<K>& best, vb& blocked) {
     WatertightPacket<K> wp(rays.org, rays.dir, rays.tmin, rays.tmax, rays.active);
     vb alive = rays.active;  // AnyHit: lanes not blocked yet
@@ -134,7 +162,7 @@ void traverse(const Bvh<W>& bvh, const PacketRays& rays, PacketHit<K>& best, vb&
             vf next_near = inf;
             for (int c = 0; c < int(node.count); ++c) {
                 vf near;
-                const vb enter = rays.test(node, c, active, wp.tmax, near);
+                const vb enter = rays.template test<SameSigns>(node, c, active, wp.tmax, near);
                 if (none(enter)) continue;
                 const vf dist = select(enter, near, inf);
                 if (!have) {
@@ -184,7 +212,10 @@ void trace_bvh_packets(const Bvh<W>& bvh, std::span<const Ray> rays, std::span<H
         const PacketRays p(part, bvh.padded_bounds);
         PacketHit<K> best;
         vb unused(false);
-        if (any(p.active)) traverse<W, false>(bvh, p, best, unused);
+        if (p.same_signs)
+            traverse<W, false, true>(bvh, p, best, unused);
+        else if (any(p.active))
+            traverse<W, false, false>(bvh, p, best, unused);
         for (size_t i = 0; i < part.size(); ++i)
             hits[first + i] = (p.single >> i) & 1u ? trace_bvh(bvh, part[i])
                               : best.tri[int(i)] == int32_t(invalid_triangle)
@@ -200,7 +231,10 @@ void visible_bvh_packets(const Bvh<W>& bvh, std::span<const Ray> rays, std::span
         const PacketRays p(part, bvh.padded_bounds);
         PacketHit<K> unused;
         vb blocked(false);
-        if (any(p.active)) traverse<W, true>(bvh, p, unused, blocked);
+        if (p.same_signs)
+            traverse<W, true, true>(bvh, p, unused, blocked);
+        else if (any(p.active))
+            traverse<W, true, false>(bvh, p, unused, blocked);
         const uint32_t bits = movemask(blocked);
         for (size_t i = 0; i < part.size(); ++i)
             visible[first + i] =
