@@ -1,9 +1,12 @@
 #include "geom/plane_id.h"
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
-#include <unordered_map>
+#include <vector>
+
+#include "core/large_arrays.h"
 
 namespace rtt {
 namespace {
@@ -95,6 +98,13 @@ void add_product2(Expansion& e, double s, const Exact2& x, const Exact2& y) {
 int orient2d_sign(const Vec3f& p, const Vec3f& q, const Vec3f& r, int i, int j) {
     const Exact2 ux = exact_diff(q[i], p[i]), uy = exact_diff(q[j], p[j]);
     const Exact2 vx = exact_diff(r[i], p[i]), vy = exact_diff(r[j], p[j]);
+    // Filter: the determinant of the rounded differences in double errs by less than 3 eps *
+    // permanent for exact inputs (Shewchuk's ccwerrboundA) plus 2 eps * permanent for the
+    // rounding of the differences (eps = 2^-53); 1e-15 * permanent is a safe bound.
+    const double l = ux.hi * vy.hi, r2 = uy.hi * vx.hi, det = l - r2;
+    const double bound = 1e-15 * (std::fabs(l) + std::fabs(r2));
+    if (det > bound) return 1;
+    if (det < -bound) return -1;
     Expansion e;
     add_product2(e, 1.0, ux, vy);
     add_product2(e, -1.0, uy, vx);
@@ -140,24 +150,52 @@ bool collinear(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
 
 namespace {
 
-/// Hash cell of an approximate plane. kind 1: axis-aligned plane x[k[0]] == bits k[1] (exact,
+/// Cell of an approximate plane. kind 1: axis-aligned plane x[k[0]] == bits k[1] (exact,
 /// no verification needed); kind 2: quantized normalized (n, d).
 struct PlaneKey {
     int kind;
     int64_t k[4];
     bool operator==(const PlaneKey&) const = default;
 };
-struct PlaneKeyHash {
-    size_t operator()(const PlaneKey& p) const {
-        uint64_t h = uint64_t(p.kind) * 0x9E3779B97F4A7C15ull;
-        for (int64_t v : p.k) h = (h ^ uint64_t(v)) * 0x100000001B3ull + (h >> 29);
-        return size_t(h);
-    }
-};
 
 bool same_point(const Vec3f& a, const Vec3f& b) {
     return a.x == b.x && a.y == b.y && a.z == b.z;
 }
+
+/// The cell of a non-degenerate triangle's plane; `scale` is the largest |coordinate|.
+PlaneKey plane_key(const TriangleVerts& t, double scale) {
+    constexpr double cells = 1048576.0;  // 2^20 cells per unit: far coarser than rounding
+    for (int a = 0; a < 3; ++a)
+        if (t.v0[a] == t.v1[a] && t.v1[a] == t.v2[a])
+            return {1, {a, int64_t(std::bit_cast<uint32_t>(t.v0[a] + 0.f)), 0, 0}};  // -0 -> +0
+    const double e1[3] = {double(t.v1.x) - t.v0.x, double(t.v1.y) - t.v0.y,
+                          double(t.v1.z) - t.v0.z};
+    const double e2[3] = {double(t.v2.x) - t.v0.x, double(t.v2.y) - t.v0.y,
+                          double(t.v2.z) - t.v0.z};
+    double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                   e1[0] * e2[1] - e1[1] * e2[0]};
+    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    const int big = std::fabs(n[0]) >= std::fabs(n[1])
+                        ? (std::fabs(n[0]) >= std::fabs(n[2]) ? 0 : 2)
+                        : (std::fabs(n[1]) >= std::fabs(n[2]) ? 1 : 2);
+    const double s = (n[big] < 0.0 ? -1.0 : 1.0) / len;
+    for (double& c : n) c *= s;
+    const double d = n[0] * t.v0.x + n[1] * t.v0.y + n[2] * t.v0.z;
+    return {2,
+            {std::llround(n[0] * cells), std::llround(n[1] * cells), std::llround(n[2] * cells),
+             std::llround(d / scale * cells)}};
+}
+
+struct KeyedTriangle {
+    PlaneKey key;
+    uint32_t triangle;
+    bool operator<(const KeyedTriangle& o) const {
+        if (key.kind != o.key.kind) return key.kind < o.key.kind;
+        for (int i = 0; i < 4; ++i)
+            if (key.k[i] != o.key.k[i]) return key.k[i] < o.key.k[i];
+        return triangle < o.triangle;
+    }
+};
 
 /// Every vertex of `t` lies exactly on the plane of the (non-degenerate) triangle `r`.
 bool on_plane_of(const TriangleVerts& r, const TriangleVerts& t) {
@@ -179,46 +217,46 @@ PlaneIds compute_plane_ids(std::span<const TriangleVerts> triangles) {
             scale = std::max(
                 {scale, double(std::fabs(v.x)), double(std::fabs(v.y)), double(std::fabs(v.z))});
     if (!(scale > 0.0)) scale = 1.0;
-    constexpr double cells = 1048576.0;  // 2^20 cells per unit: far coarser than rounding
 
-    std::unordered_map<PlaneKey, std::vector<uint32_t>, PlaneKeyHash> buckets;
-    for (uint32_t i = 0; i < triangles.size(); ++i) {
-        const TriangleVerts& t = triangles[i];
-        if (collinear(t.v0, t.v1, t.v2)) continue;
-        PlaneKey key{0, {0, 0, 0, 0}};
-        for (int a = 0; a < 3 && key.kind == 0; ++a)
-            if (t.v0[a] == t.v1[a] && t.v1[a] == t.v2[a])
-                key = {1, {a, int64_t(std::bit_cast<uint32_t>(t.v0[a] + 0.f)), 0, 0}};  // -0 -> +0
-        if (key.kind == 0) {
-            const double e1[3] = {double(t.v1.x) - t.v0.x, double(t.v1.y) - t.v0.y,
-                                  double(t.v1.z) - t.v0.z};
-            const double e2[3] = {double(t.v2.x) - t.v0.x, double(t.v2.y) - t.v0.y,
-                                  double(t.v2.z) - t.v0.z};
-            double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                           e1[0] * e2[1] - e1[1] * e2[0]};
-            const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-            const int big = std::fabs(n[0]) >= std::fabs(n[1])
-                                ? (std::fabs(n[0]) >= std::fabs(n[2]) ? 0 : 2)
-                                : (std::fabs(n[1]) >= std::fabs(n[2]) ? 1 : 2);
-            const double s = (n[big] < 0.0 ? -1.0 : 1.0) / len;
-            for (double& c : n) c *= s;
-            const double d = n[0] * t.v0.x + n[1] * t.v0.y + n[2] * t.v0.z;
-            key = {2,
-                   {std::llround(n[0] * cells), std::llround(n[1] * cells),
-                    std::llround(n[2] * cells), std::llround(d / scale * cells)}};
-        }
-        std::vector<uint32_t>& bucket = buckets[key];
-        for (uint32_t pid : bucket) {
-            if (key.kind == 1 || on_plane_of(triangles[out.representative[pid]], t)) {
-                out.id[i] = pid;
-                break;
+    // Cells sorted, not hashed: a hash map of per-cell lists cost a malloc and a free per plane,
+    // more than the rest of the work on curved meshes.
+    large_vector<KeyedTriangle> keyed;
+    keyed.reserve(triangles.size());
+    for (uint32_t i = 0; i < triangles.size(); ++i)
+        if (!collinear(triangles[i].v0, triangles[i].v1, triangles[i].v2))
+            keyed.push_back({plane_key(triangles[i], scale), i});
+    std::sort(keyed.begin(), keyed.end());
+
+    // Within a cell, in index order: each triangle joins the first of the cell's planes it lies
+    // on exactly, or founds a new one (its representative: the plane's smallest index).
+    large_vector<uint32_t> representative_of(triangles.size(), no_plane);
+    std::vector<uint32_t> planes;  // representatives of the current cell's planes
+    for (size_t g = 0; g < keyed.size();) {
+        size_t end = g + 1;
+        while (end < keyed.size() && keyed[end].key == keyed[g].key) ++end;
+        planes.clear();
+        for (size_t j = g; j < end; ++j) {
+            const uint32_t t = keyed[j].triangle;
+            for (uint32_t r : planes)
+                if (keyed[g].key.kind == 1 || on_plane_of(triangles[r], triangles[t])) {
+                    representative_of[t] = r;
+                    break;
+                }
+            if (representative_of[t] == no_plane) {
+                planes.push_back(t);
+                representative_of[t] = t;
             }
         }
-        if (out.id[i] == no_plane) {
-            const uint32_t pid = uint32_t(out.representative.size());
+        g = end;
+    }
+    // Ids in order of the representatives' indices; a representative precedes its members.
+    for (uint32_t i = 0; i < triangles.size(); ++i) {
+        const uint32_t r = representative_of[i];
+        if (r == i) {
+            out.id[i] = uint32_t(out.representative.size());
             out.representative.push_back(i);
-            bucket.push_back(pid);
-            out.id[i] = pid;
+        } else if (r != no_plane) {
+            out.id[i] = out.id[r];
         }
     }
     return out;

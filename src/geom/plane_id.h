@@ -4,9 +4,9 @@
 //
 // Two triangles get the same plane id only when both are non-degenerate and every vertex of one
 // lies exactly on the plane of the other (an exact orientation predicate on the float vertices).
-// The converse is a matter of speed, not of correctness: triangles are grouped by a hash of an
+// The converse is a matter of speed, not of correctness: triangles are grouped by the cell of an
 // approximate normalized plane equation and verified exactly against the group's representative,
-// so two exactly coplanar triangles whose approximate planes straddle a hash cell boundary get two
+// so two exactly coplanar triangles whose approximate planes straddle a cell boundary get two
 // ids for one plane. RTT then merely declines a tile it could have answered.
 #pragma once
 
