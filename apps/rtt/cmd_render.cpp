@@ -279,7 +279,12 @@ RenderJobResult run_render_job(const RenderJob& job) {
     out.input_warnings = scene.warning_count;
     out.tracer = tracer_kind;
     const auto build_start = std::chrono::steady_clock::now();
+    // Tracers with structures of their own (bvh, Embree) need no kd-tree unless asked to
+    // save or load one.
+    out.kd_used =
+        tracer_uses_kdtree(tracer_kind) || !job.tree.load.empty() || !job.tree.save.empty();
     const KdTree tree = [&] {
+        if (!out.kd_used) return KdTree{};
         const render_detail::ProgressBar progress(
             0, !job.quiet && writer,
             job.tree.load.empty() ? "building the kd-tree" : "loading the kd-tree");
@@ -290,7 +295,10 @@ RenderJobResult run_render_job(const RenderJob& job) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count();
     out.kd_loaded = !job.tree.load.empty();
     out.kd_stats = tree.stats;
+    const auto tracer_start = std::chrono::steady_clock::now();
     const std::unique_ptr<Tracer> tracer = make_tracer(tracer_kind, scene, tree);
+    out.tracer_build_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - tracer_start).count();
     opt.progress = opt.progress && writer;
     const auto options_of = [&](RenderOptions o, size_t frame) {
         o.camera = camera_of(frame);

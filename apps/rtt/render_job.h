@@ -53,6 +53,9 @@ struct RenderJobResult {
     std::string tracer;
     double kd_build_seconds = 0;  ///< Building, or loading with --load-tree (kd_loaded).
     bool kd_loaded = false;
+    bool kd_used = true;  ///< False: the tracer needed no kd-tree (tracer_uses_kdtree).
+    /// make_tracer: the tracer's own structures (the bvh kind's BVH, Embree's scene).
+    double tracer_build_seconds = 0;
     KdStats kd_stats;
     RenderResult result;
     std::vector<RankStats> ranks;  ///< Under mpirun (on rank 0): what each rank did.

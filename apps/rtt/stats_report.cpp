@@ -54,14 +54,20 @@ void print_rank_stats(std::FILE* out, const std::vector<RankStats>& ranks) {
 void print_stats(std::FILE* out, const RenderJobResult& r) {
     const RenderResult& res = r.result;
     const RenderStats& s = res.stats;
-    std::fprintf(
-        out, "%s: %zu triangles, kd-tree %s in %.3f s; tracer %s; %dx%d, %dx%d AA, %d threads\n",
-        r.scene_label.c_str(), r.triangles, r.kd_loaded ? "loaded" : "built", r.kd_build_seconds,
-        r.tracer.c_str(), res.width, res.height, res.aa, res.aa, s.threads);
+    char kd[64] = "no kd-tree";
+    if (r.kd_used)
+        std::snprintf(kd, sizeof kd, "kd-tree %s in %.3f s", r.kd_loaded ? "loaded" : "built",
+                      r.kd_build_seconds);
+    std::fprintf(out,
+                 "%s: %zu triangles, %s; tracer %s (set up in %.3f s); %dx%d, %dx%d AA, %d "
+                 "threads\n",
+                 r.scene_label.c_str(), r.triangles, kd, r.tracer.c_str(), r.tracer_build_seconds,
+                 res.width, res.height, res.aa, res.aa, s.threads);
     if (r.input_warnings)
         std::fprintf(out, "input warnings: %zu (skipped or repaired input, first ones on stderr)\n",
                      r.input_warnings);
-    if (!r.kd_loaded) std::fprintf(out, "kd-tree build: %s\n", kd_build_phases(r.kd_stats).c_str());
+    if (r.kd_used && !r.kd_loaded)
+        std::fprintf(out, "kd-tree build: %s\n", kd_build_phases(r.kd_stats).c_str());
     std::fprintf(out, "%-10s %9s %9s %12s %12s %12s %9s %9s %9s\n", "rays", "tiles", "rtt tiles",
                  "rays", "traced", "answered", "avg list", "seconds", "Mrays/s");
     const KindRow rows[] = {
@@ -126,6 +132,8 @@ void write_stats_json(const std::string& path, const RenderJob& job, const Rende
         {"max_depth", job.max_depth},
         {"kd_build_seconds", r.kd_build_seconds},
         {"kd_tree_loaded", r.kd_loaded},
+        {"kd_tree_used", r.kd_used},
+        {"tracer_build_seconds", r.tracer_build_seconds},
         {"kd_build_phases",
          {{"setup_seconds", r.kd_stats.setup_seconds},
           {"tree_seconds", r.kd_stats.tree_seconds},

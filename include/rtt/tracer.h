@@ -147,8 +147,14 @@ std::vector<std::string> tracer_kinds();
 /// check (and message) of a tracer kind for every caller (command line, viewer, Python).
 void check_tracer_kind(std::string_view kind);
 
-/// Creates a tracer over `scene` and `tree` (both must outlive it). Throws rtt::Error for an
-/// unknown kind (check_tracer_kind), or one this machine or build cannot run.
+/// Whether tracers of `kind` read the kd-tree passed to make_tracer. "bvh", "brute" and the
+/// Embree kinds build structures of their own: skip the kd-tree's build for them and pass an
+/// empty KdTree. Throws as check_tracer_kind.
+bool tracer_uses_kdtree(std::string_view kind);
+
+/// Creates a tracer over `scene` and `tree` (both must outlive it; `tree` may be an empty
+/// KdTree where !tracer_uses_kdtree(kind)). Throws rtt::Error for an unknown kind
+/// (check_tracer_kind), or one this machine or build cannot run.
 std::unique_ptr<Tracer> make_tracer(std::string_view kind, const Scene& scene, const KdTree& tree);
 
 }  // namespace rtt

@@ -24,6 +24,12 @@ double timed_in_arena(int threads, const F& f) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+/// What tracers that never read a kd-tree are handed (rtt::tracer_uses_kdtree).
+const KdTree& no_kdtree() {
+    static const KdTree empty;
+    return empty;
+}
+
 }  // namespace
 
 BoundScene::BoundScene(Scene scene, bool geometry_only)
@@ -44,7 +50,8 @@ Camera BoundScene::default_camera() const {
 BoundTracer::BoundTracer(std::shared_ptr<BoundScene> scene, const std::string& kind)
     : scene_(std::move(scene)),
       kind_(kind),
-      tracer_(make_tracer(kind, scene_->scene(), scene_->tree())) {}
+      tracer_(make_tracer(kind, scene_->scene(),
+                          tracer_uses_kdtree(kind) ? scene_->tree() : no_kdtree())) {}
 
 void BoundTracer::record(const CallStats& stats) {
     std::lock_guard lock(stats_mutex_);

@@ -31,6 +31,7 @@ struct TracerEntry {
     const char* kind;
     std::function<std::unique_ptr<Tracer>(const Scene&, const KdTree&)> make;
     Isa needs = Isa::sse42;  ///< the narrowest ISA whose kernels have the kind
+    bool kd_tree = true;     ///< reads the kd-tree (tracer_uses_kdtree)
 };
 
 // The kernel tracer `kind` of the active ISA (rtt/isa.h).
@@ -64,8 +65,8 @@ auto embree(EmbreeMode mode, bool medium) {
 const std::vector<TracerEntry>& registry() {
     static const std::vector<TracerEntry> entries = {
         {"ray", make_ray_tracer},
-        {"brute", make_brute_force_tracer},
-        {"bvh", kernels("bvh")},
+        {"brute", make_brute_force_tracer, Isa::sse42, false},
+        {"bvh", kernels("bvh"), Isa::sse42, false},
         {"packet", kernels("packet")},
         {"rtt", kernels("rtt")},
         {"rtt-paper",
@@ -76,12 +77,12 @@ const std::vector<TracerEntry>& registry() {
         {"packet8", kernels("packet8"), Isa::avx2},
         {"packet16", kernels("packet16"), Isa::avx512},
 #ifdef RTT_HAVE_EMBREE
-        {"embree", embree(EmbreeMode::packets, false)},
-        {"embree-stream", embree(EmbreeMode::stream, false)},
-        {"embree1", embree(EmbreeMode::single, false)},
-        {"embree-medium", embree(EmbreeMode::packets, true)},
-        {"embree-stream-medium", embree(EmbreeMode::stream, true)},
-        {"embree1-medium", embree(EmbreeMode::single, true)},
+        {"embree", embree(EmbreeMode::packets, false), Isa::sse42, false},
+        {"embree-stream", embree(EmbreeMode::stream, false), Isa::sse42, false},
+        {"embree1", embree(EmbreeMode::single, false), Isa::sse42, false},
+        {"embree-medium", embree(EmbreeMode::packets, true), Isa::sse42, false},
+        {"embree-stream-medium", embree(EmbreeMode::stream, true), Isa::sse42, false},
+        {"embree1-medium", embree(EmbreeMode::single, true), Isa::sse42, false},
 #endif
     };
     return entries;
@@ -115,6 +116,13 @@ void check_tracer_kind(std::string_view kind) {
         if (int(e.needs) <= int(isa)) known += (known.empty() ? "" : ", ") + std::string(e.kind);
     }
     throw Error("unknown tracer '" + std::string(kind) + "' (this build has: " + known + ")");
+}
+
+bool tracer_uses_kdtree(std::string_view kind) {
+    check_tracer_kind(kind);
+    for (const TracerEntry& e : registry())
+        if (kind == e.kind) return e.kd_tree;
+    return true;  // not reached: check_tracer_kind threw
 }
 
 std::unique_ptr<Tracer> make_tracer(std::string_view kind, const Scene& scene, const KdTree& tree) {
