@@ -70,6 +70,30 @@ TEST(LibraryApi, IntersectRaysAgreesWithBruteForceOnEveryKind) {
     }
 }
 
+// Kinds that say they never read the kd-tree give the same answers handed an empty one.
+TEST(LibraryApi, KindsWithoutKdTreeAnswerWithAnEmptyOne) {
+    const Scene scene = test_scene();
+    const KdTree tree = build_kdtree(scene), none;
+    const std::vector<Ray> rays = random_rays(scene.bounds(), 1001, 11);
+    std::vector<Hit> expected(rays.size());
+    intersect_rays(*make_tracer("brute", scene, tree), rays, expected);
+    EXPECT_TRUE(tracer_uses_kdtree("rtt"));
+    EXPECT_TRUE(tracer_uses_kdtree("packet"));
+    EXPECT_FALSE(tracer_uses_kdtree("bvh"));
+    EXPECT_THROW(tracer_uses_kdtree("no-such-kind"), Error);
+    int without = 0;
+    for (const std::string& kind : tracer_kinds()) {
+        if (tracer_uses_kdtree(kind) || differential::tie_breaks_differ(kind)) continue;
+        ++without;
+        std::vector<Hit> got(rays.size());
+        intersect_rays(*make_tracer(kind, scene, none), rays, got);
+        size_t mismatches = 0;
+        for (size_t i = 0; i < rays.size(); ++i) mismatches += !(got[i] == expected[i]);
+        EXPECT_EQ(mismatches, 0u) << kind;
+    }
+    EXPECT_GE(without, 2);  // brute and bvh at least
+}
+
 TEST(LibraryApi, VisibleRaysEqualsOccludedSegments) {
     const Scene scene = test_scene();
     const KdTree tree = build_kdtree(scene);
