@@ -275,7 +275,8 @@ void add_bench_command(CLI::App& app) {
          "Figure 5: office and its RTT maps for primary and shadow rays (PNG)",
          {bench::run_fig5}},
         {"embree",
-         "Embree beside packet, packet16, frustum and rtt at 1024x768, K=1 and 4, 1 thread and "
+         "Embree beside packet, packet16, frustum, rtt and bvh at 1024x768, K=1 and 4, 1 thread "
+         "and "
          "all cores",
          {bench::run_embree}},
         {"build",

@@ -1,9 +1,12 @@
 // The kd-tree build beside Embree's BVH build (issue 16): wall seconds on one thread and on all
-// cores, the two builds alternating on the same scene, and the tree each kd-tree build gives.
+// cores, the builds alternating on the same scene, and the tree each kd-tree build gives; also
+// what rtt's tracer sets up on a built tree and the bvh kind's own BVH (the first image's parts).
 #include <oneapi/tbb/info.h>
 #include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
+#include <chrono>
+#include <memory>
 
 #include "experiments/experiment_common.h"
 #include "trace/trace_embree.h"
@@ -24,14 +27,23 @@ double median_of(std::vector<double> v) {
 struct BuildTimes {
     double kd_seconds = 0, bvh_seconds = -1;  ///< Medians; bvh -1 without Embree.
     double bvh_medium_seconds = -1;           ///< Embree's MEDIUM build (its default).
-    KdStats kd;                               ///< The last kd-tree built.
+    double rtt_setup_seconds = 0;  ///< make_tracer("rtt") on a built tree (plane ids, normals).
+    double our_bvh_seconds = 0;    ///< make_tracer("bvh"): the bvh kind's BVH.
+    KdStats kd;                    ///< The last kd-tree built.
 };
+
+/// Wall seconds of make_tracer(kind, ...).
+double setup_seconds(const std::string& kind, const BenchScene& scene, const KdTree& tree) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::unique_ptr<Tracer> tracer = make_tracer(kind, scene.scene, tree);
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
 /// Median build seconds of our kd-tree and of Embree's BVH with `threads` oneTBB threads,
 /// alternating. The scene's own kd-tree, unless it was loaded from a file (`--load-tree`: its
 /// build phases are zero), was built on all cores: with all cores it is the first sample.
 BuildTimes build_times(const BenchScene& scene, int threads, int repetitions) {
-    std::vector<double> kd, bvh, bvh_medium;
+    std::vector<double> kd, bvh, bvh_medium, rtt_setup, our_bvh;
     BuildTimes out;
     out.kd = scene.tree.stats;
     const bool built_here = scene.tree.stats.tree_seconds > 0.0;
@@ -44,6 +56,8 @@ BuildTimes build_times(const BenchScene& scene, int threads, int repetitions) {
                 out.kd = build_kdtree(scene.scene).stats;
                 kd.push_back(out.kd.build_seconds);
             }
+            rtt_setup.push_back(setup_seconds("rtt", scene, scene.tree));
+            our_bvh.push_back(setup_seconds("bvh", scene, KdTree{}));
             if (has_tracer("embree")) {
                 bvh.push_back(
                     embree_build_seconds(*make_tracer("embree", scene.scene, scene.tree)));
@@ -55,6 +69,8 @@ BuildTimes build_times(const BenchScene& scene, int threads, int repetitions) {
     out.kd_seconds = median_of(kd);
     out.bvh_seconds = bvh.empty() ? -1.0 : median_of(bvh);
     out.bvh_medium_seconds = bvh_medium.empty() ? -1.0 : median_of(bvh_medium);
+    out.rtt_setup_seconds = median_of(rtt_setup);
+    out.our_bvh_seconds = median_of(our_bvh);
     return out;
 }
 
@@ -79,6 +95,8 @@ void add_build_table(const BenchConfig& config, SceneCache& scenes, ExperimentRe
         builds.header.push_back("Embree MEDIUM, " + std::to_string(threads) + "t");
         builds.header.push_back("kd/HIGH, " + std::to_string(threads) + "t");
         builds.header.push_back("kd/MEDIUM, " + std::to_string(threads) + "t");
+        builds.header.push_back("rtt setup, " + std::to_string(threads) + "t");
+        builds.header.push_back("bvh's BVH, " + std::to_string(threads) + "t");
     }
     builds.header.insert(builds.header.end(), {"kd nodes", "kd references", "kd SAH cost"});
     nlohmann::json build_json = nlohmann::json::array();
@@ -95,6 +113,8 @@ void add_build_table(const BenchConfig& config, SceneCache& scenes, ExperimentRe
             row.push_back(t.bvh_seconds > 0 ? format_ratio(t.kd_seconds / t.bvh_seconds) : "-");
             row.push_back(
                 t.bvh_medium_seconds > 0 ? format_ratio(t.kd_seconds / t.bvh_medium_seconds) : "-");
+            row.push_back(format_fixed(t.rtt_setup_seconds, 3));
+            row.push_back(format_fixed(t.our_bvh_seconds, 3));
             if (t.bvh_seconds > 0)
                 r.findings.push_back(
                     name + ", " + std::to_string(threads) + " thread(s): kd-tree build " +
@@ -105,7 +125,9 @@ void add_build_table(const BenchConfig& config, SceneCache& scenes, ExperimentRe
                                   {"threads", threads},
                                   {"kdtree_s", t.kd_seconds},
                                   {"embree_bvh_s", t.bvh_seconds},
-                                  {"embree_bvh_medium_s", t.bvh_medium_seconds}});
+                                  {"embree_bvh_medium_s", t.bvh_medium_seconds},
+                                  {"rtt_setup_s", t.rtt_setup_seconds},
+                                  {"bvh_s", t.our_bvh_seconds}});
         }
         row.push_back(format_count(tree.nodes));
         row.push_back(format_count(tree.triangle_references));

@@ -85,16 +85,23 @@ double fastest_frame(const Measurement& m, const std::vector<std::string>& modes
 }
 
 /// The first image: the acceleration structure's build (add_build_table) plus one K = 1 frame of
-/// primary and shadow rays, rtt against Embree with its HIGH and its MEDIUM build (each with the
-/// fastest of its modes), per scene and thread count.
+/// primary and shadow rays: rtt (kd-tree, its tracer's setup, its frame), bvh (its BVH, its
+/// frame) and Embree with its HIGH and its MEDIUM build (each with the fastest of its modes),
+/// per scene and thread count.
 void add_first_image_table(const BenchConfig& config, ExperimentResult& r) {
     if (!r.extra.contains("builds") || !has_tracer("embree")) return;
     TextTable t;
     t.title =
         "First image (seconds): build (wall) + one K=1 frame of primary and shadow rays "
-        "(the tables' clock), rtt beside Embree's fastest mode with each build";
-    t.header = {"scene",       "threads",       "rtt: kd-tree + frame",
-                "Embree HIGH", "Embree MEDIUM", "MEDIUM / rtt"};
+        "(the tables' clock), rtt and bvh beside Embree's fastest mode with each build";
+    t.header = {"scene",
+                "threads",
+                "rtt: kd-tree + setup + frame",
+                "bvh: BVH + frame",
+                "Embree HIGH",
+                "Embree MEDIUM",
+                "MEDIUM / rtt",
+                "MEDIUM / bvh"};
     nlohmann::json json = nlohmann::json::array();
     for (const auto& b : r.extra["builds"]) {
         const std::string scene = b["scene"];
@@ -104,15 +111,19 @@ void add_first_image_table(const BenchConfig& config, ExperimentResult& r) {
         });
         if (m == r.measurements.end() || !m->find("rtt")) continue;
         const ClockKind clock = table_clock(config, threads);
-        const double rtt = double(b["kdtree_s"]) + fastest_frame(*m, {"rtt"}, clock);
+        const double rtt =
+            double(b["kdtree_s"]) + double(b["rtt_setup_s"]) + fastest_frame(*m, {"rtt"}, clock);
+        const double bvh_frame = fastest_frame(*m, {"bvh"}, clock);
+        const double bvh = bvh_frame < 0.0 ? -1.0 : double(b["bvh_s"]) + bvh_frame;
         const double high = double(b["embree_bvh_s"]) +
                             fastest_frame(*m, {"embree", "embree-stream", "embree1"}, clock);
         const double medium =
             double(b["embree_bvh_medium_s"]) +
             fastest_frame(*m, {"embree-medium", "embree-stream-medium", "embree1-medium"}, clock);
         t.rows.push_back({scene, std::to_string(threads), format_fixed(rtt, 3),
-                          format_fixed(high, 3), format_fixed(medium, 3),
-                          format_ratio(medium / rtt)});
+                          bvh < 0.0 ? "-" : format_fixed(bvh, 3), format_fixed(high, 3),
+                          format_fixed(medium, 3), format_ratio(medium / rtt),
+                          bvh < 0.0 ? "-" : format_ratio(medium / bvh)});
         r.findings.push_back(scene + ", " + std::to_string(threads) +
                              " thread(s): first image (build + K=1 frame) rtt " +
                              format_fixed(rtt, 3) + " s, Embree MEDIUM " + format_fixed(medium, 3) +
@@ -120,6 +131,7 @@ void add_first_image_table(const BenchConfig& config, ExperimentResult& r) {
         json.push_back({{"scene", scene},
                         {"threads", threads},
                         {"rtt_s", rtt},
+                        {"bvh_s", bvh},
                         {"embree_high_s", high},
                         {"embree_medium_s", medium}});
     }
@@ -140,10 +152,10 @@ ExperimentResult run_embree(const BenchConfig& config, SceneCache& scenes) {
     if (all > 1) thread_counts.push_back(all);
     ExperimentResult r;
     r.id = "embree";
-    r.title = "Embree 3 beside packet, packet16, frustum and rtt at " + size_label(w1, h1) +
+    r.title = "Embree 3 beside packet, packet16, frustum, rtt and bvh at " + size_label(w1, h1) +
               " (K=1) and " + size_label(w4, h4) + " (K=4)";
     std::fprintf(config.log, "\n== %s\n", r.title.c_str());
-    std::vector<std::string> wanted{"packet", "packet16", "frustum", "rtt"};
+    std::vector<std::string> wanted{"packet", "packet16", "frustum", "rtt", "bvh"};
     wanted.insert(wanted.end(), embree_modes.begin(), embree_modes.end());
     const std::vector<std::string> kinds = available(wanted);
     for (const std::string& name : config.scenes) {
