@@ -99,7 +99,7 @@ void print_stats(std::FILE* out, const RenderJobResult& r) {
         std::fprintf(out,
                      "%s time split: %.3f s in the tiles' answers, corners and walks (%llu rays "
                      "answered); %.3f s in the fallback (%llu rays traced, corners included; "
-                     "%llu of them one by one through the BVH)\n",
+                     "%llu of them through the BVH)\n",
                      row.name, row.stats->seconds - fallback, (unsigned long long)t.answered,
                      fallback, (unsigned long long)row.stats->trace.traced,
                      (unsigned long long)t.bvh_rays);

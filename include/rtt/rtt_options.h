@@ -35,7 +35,7 @@ struct RttStats {
     /// and refused rays); the rest of RTT's time went to answered tiles.
     uint64_t fallback_ns = 0;
     /// Of the rays traced, those of tiles that are no shaft (reflections off curved mirrors,
-    /// their shadow segments) that went one by one through the BVH rather than as packets.
+    /// their shadow segments) that went through the BVH rather than the kd-tree.
     uint64_t bvh_rays = 0;
 
     /// Every counter, for code that adds or ships them all (sums, MPI ranks).

@@ -163,10 +163,10 @@ public:
 
 private:
     const Bvh<bvh_width>& bvh() const;
-    // Tiles that are no shaft (reflections off curved mirrors, their shadow segments) go one
-    // ray at a time through the BVH rather than as packets through the kd-tree when it is
-    // built or has paid for its build; reflected rays only when their directions spread too
-    // widely for packets (docs/benchmarks.md, "Loose rays").
+    // Tiles that are no shaft (reflections off curved mirrors, their shadow segments) go
+    // through the BVH's packets rather than the kd-tree's when it is built or has paid for its
+    // build; reflected rays only when their directions spread widely (docs/benchmarks.md,
+    // "Loose rays").
     static bool spread(std::span<const Ray> rays);
     bool bvh_pays(size_t rays) const;
     static bool shaft_tile(bool shaft, int width, int height, size_t n) {
