@@ -197,6 +197,16 @@ void traverse(const Bvh<W>& bvh, const PacketRays& rays, PacketHit<K>& best, vb&
 }
 
 /// Runs `packet(rays, first)` on each packet of K consecutive rays.
+/// traverse() with the node test the packet's direction signs allow.
+template <int W, bool AnyHit>
+void traverse_packet(const Bvh<W>& bvh, const PacketRays& p, PacketHit<K>& best, vb& blocked) {
+    if (!any(p.active)) return;
+    if (p.same_signs)
+        traverse<W, AnyHit, true>(bvh, p, best, blocked);
+    else
+        traverse<W, AnyHit, false>(bvh, p, best, blocked);
+}
+
 template <typename Packet>
 void for_each_packet(std::span<const Ray> rays, Packet&& packet) {
     for (size_t first = 0; first < rays.size(); first += K)
@@ -212,10 +222,7 @@ void trace_bvh_packets(const Bvh<W>& bvh, std::span<const Ray> rays, std::span<H
         const PacketRays p(part, bvh.padded_bounds);
         PacketHit<K> best;
         vb unused(false);
-        if (p.same_signs)
-            traverse<W, false, true>(bvh, p, best, unused);
-        else if (any(p.active))
-            traverse<W, false, false>(bvh, p, best, unused);
+        traverse_packet<W, false>(bvh, p, best, unused);
         for (size_t i = 0; i < part.size(); ++i)
             hits[first + i] = (p.single >> i) & 1u ? trace_bvh(bvh, part[i])
                               : best.tri[int(i)] == int32_t(invalid_triangle)
@@ -231,10 +238,7 @@ void visible_bvh_packets(const Bvh<W>& bvh, std::span<const Ray> rays, std::span
         const PacketRays p(part, bvh.padded_bounds);
         PacketHit<K> unused;
         vb blocked(false);
-        if (p.same_signs)
-            traverse<W, true, true>(bvh, p, unused, blocked);
-        else if (any(p.active))
-            traverse<W, true, false>(bvh, p, unused, blocked);
+        traverse_packet<W, true>(bvh, p, unused, blocked);
         const uint32_t bits = movemask(blocked);
         for (size_t i = 0; i < part.size(); ++i)
             visible[first + i] =
