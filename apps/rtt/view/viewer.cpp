@@ -238,14 +238,19 @@ void run_viewer(const ViewerOptions& o) {
                        bounds.empty() ? 2.f : length(bounds.hi - bounds.lo));
     const bool lit_from_eye = cli::set_up_lights(scene, light_positions, camera.camera().position);
     validate(scene);
-    const KdTree tree = [&] {
-        const render_detail::ProgressBar progress(0, !o.quiet, "building the kd-tree");
-        return build_kdtree(scene);
-    }();
+    // Built when a kind that reads it is first shown (bvh and Embree need none); declared
+    // before the tracers, which refer to it.
+    std::optional<KdTree> tree;
+    const KdTree no_tree;
     std::map<std::string, std::unique_ptr<Tracer>> tracers;  // made when first shown
     const auto tracer_for = [&](const std::string& k) -> const Tracer& {
         std::unique_ptr<Tracer>& t = tracers[k];
-        if (!t) t = make_tracer(k, scene, tree);
+        if (t) return *t;
+        if (tracer_uses_kdtree(k) && !tree) {
+            const render_detail::ProgressBar progress(0, !o.quiet, "building the kd-tree");
+            tree.emplace(build_kdtree(scene));
+        }
+        t = make_tracer(k, scene, tree ? *tree : no_tree);
         return *t;
     };
 
