@@ -1,6 +1,6 @@
 // Large arrays on transparent huge pages: a build writes hundreds of MB of fresh memory, and on
 // 4 KiB pages the kernel's page faults were a quarter to a half of a first build
-// (docs/benchmarks.md, "Page faults"). Where the system offers huge pages on request (Linux,
+// (docs/benchmarks.md, "Arbitrary rays"). Where the system offers huge pages on request (Linux,
 // transparent_hugepage "madvise" or "always"), one 2 MiB page faults where 512 small ones did.
 #pragma once
 
