@@ -33,7 +33,7 @@ void RttTracer::intersect(const RayTile& tile, std::span<Hit> hits,
     if (!shaft_tile(tile.shaft, tile.width, tile.height, tile.rays.size())) {
         const FallbackClock clock(st.fallback_ns);
         if (!tile.shaft && spread(tile.rays) && bvh_pays(tile.rays.size())) {
-            trace_bvh_packets(bvh(), tile.rays, hits);
+            trace_bvh_tile(bvh(), tile, hits);
             st.bvh_rays += uint64_t(n);
         } else {
             trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);

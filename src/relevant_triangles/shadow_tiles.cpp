@@ -56,7 +56,7 @@ void RttTracer::occluded(const SegmentTile& tile, std::span<uint8_t> visible,
     } else if (!shaft_tile(tile.shaft, tile.width, tile.height, tile.points.size())) {
         const FallbackClock clock(st.fallback_ns);
         if (!tile.shaft && bvh_pays(active_count)) {
-            visible_segment_packets(bvh(), tile, visible);
+            visible_bvh_segments(bvh(), tile, visible);
             st.bvh_rays += active_count;
         } else {
             occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);

@@ -232,13 +232,13 @@ public:
     // A tile's rays travel together: packets (trace_bvh_packets.cpp).
     void intersect(const RayTile& tile, std::span<Hit> hits,
                    const TraceContext& context) const override {
-        trace_bvh_packets(bvh_, tile.rays, hits);
+        trace_bvh_tile(bvh_, tile, hits);
         record_traced_tile(tile.rays.size(), context);
     }
 
     void occluded(const SegmentTile& tile, std::span<uint8_t> visible,
                   const TraceContext& context) const override {
-        record_traced_tile(visible_segment_packets(bvh_, tile, visible), context);
+        record_traced_tile(visible_bvh_segments(bvh_, tile, visible), context);
     }
 
     void intersect_arbitrary(std::span<const Ray> rays, std::span<Hit> hits,

@@ -42,11 +42,16 @@ void trace_bvh_packets(const Bvh<W>& bvh, std::span<const Ray> rays, std::span<H
 template <int W>
 void visible_bvh_packets(const Bvh<W>& bvh, std::span<const Ray> rays, std::span<uint8_t> visible);
 
-/// Whether each active segment of `tile` reaches its light (inactive ones: 0), in packets;
-/// returns the number of active segments.
+/// Closest hits of a tile's rays in packets of packet_width x packet_height samples (as the
+/// packet tracers cut tiles): hits equal trace_bvh's. hits.size() == tile.rays.size().
 template <int W>
-uint64_t visible_segment_packets(const Bvh<W>& bvh, const SegmentTile& tile,
-                                 std::span<uint8_t> visible);
+void trace_bvh_tile(const Bvh<W>& bvh, const RayTile& tile, std::span<Hit> hits);
+
+/// Whether each active segment of `tile` reaches its light (inactive ones: 0), in packets
+/// cut as trace_bvh_tile's; returns the number of active segments.
+template <int W>
+uint64_t visible_bvh_segments(const Bvh<W>& bvh, const SegmentTile& tile,
+                              std::span<uint8_t> visible);
 
 }  // namespace RTT_ISA_NS
 }  // namespace rtt

@@ -13,6 +13,7 @@
 
 #include "geom/triangle_simd.h"
 #include "simd/simd.h"
+#include "trace/packet_blocks.h"
 #include "trace/trace_bvh.h"
 #include "trace/trace_ray.h"
 
@@ -37,22 +38,12 @@ struct PacketRays {
     vb active;            ///< Lanes traced here.
     uint32_t single = 0;  ///< Lanes left to the single-ray kernel.
 
-    PacketRays(std::span<const Ray> rays, const Bbox3f& bounds) {
-        alignas(64) float o[3][K], d[3][K], t0[K], t1[K];
-        for (int i = 0; i < K; ++i) {
-            // Unused lanes copy ray 0: finite values keep the arithmetic free of denormals.
-            const Ray& r = rays[size_t(i) < rays.size() ? size_t(i) : 0];
-            for (int a = 0; a < 3; ++a) {
-                o[a][i] = r.org[a];
-                d[a][i] = r.dir[a];
-            }
-            t0[i] = r.tmin;
-            t1[i] = r.tmax;
-        }
-        org = {vf::load(o[0]), vf::load(o[1]), vf::load(o[2])};
-        dir = {vf::load(d[0]), vf::load(d[1]), vf::load(d[2])};
-        tmin = vf::load(t0);
-        tmax = vf::load(t1);
+    /// The lanes `used` of `packet`; the others must hold finite rays (a copy of a used one).
+    PacketRays(const RayPacket<K>& packet, uint32_t used, const Bbox3f& bounds) {
+        org = {vf::load(packet.org[0]), vf::load(packet.org[1]), vf::load(packet.org[2])};
+        dir = {vf::load(packet.dir[0]), vf::load(packet.dir[1]), vf::load(packet.dir[2])};
+        tmin = vf::load(packet.tmin);
+        tmax = vf::load(packet.tmax);
         const vf* dv[3] = {&dir.x, &dir.y, &dir.z};
         const vf* ov[3] = {&org.x, &org.y, &org.z};
         vb odd(false);
@@ -65,7 +56,6 @@ struct PacketRays {
             dmax = max(dmax, abs(*dv[a]));
             org_t = max(org_t, abs(org_inv[a]));
         }
-        const uint32_t used = rays.size() >= size_t(K) ? ~0u >> (32 - K) : (1u << rays.size()) - 1u;
         single = movemask(odd) & used;
         active = vb::from_bits(used & ~single);
         same_signs = true;
@@ -111,6 +101,58 @@ struct PacketRays {
         near = min(mul_sub(enter, shrink, t_margin), mul_sub(enter, grow, t_margin));
         const vf far = max(mul_add(leave, grow, t_margin), mul_add(leave, shrink, t_margin));
         return lanes & (max(near, tn) <= min(far, tf));
+    }
+};
+
+/// The packet as one frustum, for one W-lane test of a node's children: per axis the extremes
+/// of the active lanes' origins and inverse directions (one sign per axis), so every lane's
+/// interval in a box lies in the frustum's. Widened twice as much as a lane's test, it passes
+/// every child some lane's own test passes (docs/design.md, "The BVH for arbitrary rays").
+template <int W>
+struct PacketFrustum {
+    using vw = vfloat<W>;
+    float o_near[3], o_far[3];  ///< The origins giving the smallest entry, the largest exit.
+    float inv_lo[3], inv_hi[3];
+    uint32_t enter[3], leave[3];  ///< PacketRays' face offsets.
+    float tmin, t_margin;
+
+    explicit PacketFrustum(const PacketRays& p) {
+        const vf inf(pos_inf), ninf(neg_inf);
+        const auto lowest = [&](vf v) { return reduce_min(select(p.active, v, inf))[0]; };
+        const auto highest = [&](vf v) { return reduce_max(select(p.active, v, ninf))[0]; };
+        const vf* ov[3] = {&p.org.x, &p.org.y, &p.org.z};
+        for (int a = 0; a < 3; ++a) {
+            // dir > 0: (face - org) * inv is least at the largest origin, greatest at the
+            // smallest; dir < 0 the other way round. Each bound is then the lesser (greater) of
+            // the two products with the inverse directions' extremes.
+            const bool positive = p.enter[a] < p.leave[a];
+            o_near[a] = positive ? highest(*ov[a]) : lowest(*ov[a]);
+            o_far[a] = positive ? lowest(*ov[a]) : highest(*ov[a]);
+            inv_lo[a] = lowest(p.inv[a]);
+            inv_hi[a] = highest(p.inv[a]);
+            enter[a] = p.enter[a];
+            leave[a] = p.leave[a];
+        }
+        tmin = lowest(p.tmin);
+        t_margin = 2.f * highest(p.t_margin);
+    }
+
+    /// Children whose box some lane may meet in [tmin, tfar]; the frustum's widened entry
+    /// distances (a lower bound of every lane's) in `near`.
+    RTT_FORCEINLINE uint32_t test(const BvhNode<W>& n, float tfar, vw& near) const {
+        const char* base = reinterpret_cast<const char*>(&n.lo[0][0]);
+        vw tn(neg_inf), tf(pos_inf);
+        for (int a = 0; a < 3; ++a) {
+            const vw e = vw::load(reinterpret_cast<const float*>(base + enter[a])) - vw(o_near[a]);
+            const vw l = vw::load(reinterpret_cast<const float*>(base + leave[a])) - vw(o_far[a]);
+            tn = max(tn, min(e * vw(inv_lo[a]), e * vw(inv_hi[a])));
+            tf = min(tf, max(l * vw(inv_lo[a]), l * vw(inv_hi[a])));
+        }
+        const vw shrink(1.f - 4.f * kd_margin), grow(1.f + 4.f * kd_margin), m(t_margin);
+        near = min(mul_sub(tn, shrink, m), mul_sub(tn, grow, m));
+        const vw far = max(mul_add(tf, grow, m), mul_add(tf, shrink, m));
+        const uint32_t used = (1u << n.count) - 1u;
+        return movemask(max(near, vw(tmin)) <= min(far, vw(tfar))) & used;
     }
 };
 
@@ -196,21 +238,162 @@ void traverse(const Bvh<W>& bvh, const PacketRays& rays, PacketHit<K>& best, vb&
     }
 }
 
-/// Runs `packet(rays, first)` on each packet of K consecutive rays.
+/// Starts loading a child the packet will visit: a node's four cache lines, or a leaf's first
+/// block (the node's fetch is what a packet step waits on).
+template <int W>
+RTT_FORCEINLINE void prefetch_child(const Bvh<W>& bvh, uint32_t child) {
+    const char* p = child & bvh_leaf_bit
+                        ? reinterpret_cast<const char*>(&bvh.blocks[(child & ~bvh_leaf_bit) >> 3])
+                        : reinterpret_cast<const char*>(&bvh.nodes[child]);
+    const size_t size = child & bvh_leaf_bit ? sizeof(BvhTriangles4) : sizeof(BvhNode<W>);
+    for (size_t off = 0; off < size; off += 64) __builtin_prefetch(p + off);
+}
+
+/// traverse() for packets whose lanes share direction signs: each node's children are culled
+/// by one W-lane test of the packet's frustum, and only the survivors are tested lane by lane.
+/// Subtrees are ordered by the frustum's entry distance, one number for all lanes.
+template <int W, bool AnyHit>
+void traverse_frustum(const Bvh<W>& bvh, const PacketRays& rays, PacketHit<K>& best, vb& blocked) {
+    using vw = vfloat<W>;
+    const PacketFrustum<W> frustum(rays);
+    WatertightPacket<K> wp(rays.org, rays.dir, rays.tmin, rays.tmax, rays.active);
+    vb alive = rays.active;
+    const vf ninf(neg_inf);
+    // The farthest any live lane may still reach: what a subtree must start before.
+    const auto reach = [&] { return reduce_max(select(alive, wp.tmax, ninf))[0]; };
+    float tfar = reach();
+    struct Entry {
+        uint32_t child;
+        float near;
+    };
+    Entry stack[(W - 1) * bvh_max_depth + W];
+    int top = 0;
+    uint32_t cur = 0;
+    float cur_near = frustum.tmin;
+    for (;;) {
+        if (cur & bvh_leaf_bit) {
+            const uint32_t first = (cur & ~bvh_leaf_bit) >> 3, count = cur & 7u;
+            vb lanes = alive & (vf(cur_near) <= wp.tmax);
+            bool hit_any = false;
+            for (uint32_t k = first; k < first + count && any(lanes); ++k) {
+                const BvhTriangles4& q = bvh.blocks[k];
+                for (int l = 0; l < 4; ++l) {
+                    const uint32_t id = q.id[l];
+                    if (id == invalid_triangle) continue;
+                    const TriangleVerts tri{{q.v0[0][l], q.v0[1][l], q.v0[2][l]},
+                                            {q.v1[0][l], q.v1[1][l], q.v1[2][l]},
+                                            {q.v2[0][l], q.v2[1][l], q.v2[2][l]}};
+                    vf t(0.f);
+                    const vb hit = intersect_watertight<K>(wp, lanes, tri, t);
+                    if constexpr (AnyHit) {
+                        blocked |= hit;
+                        lanes = andnot(lanes, hit);
+                        alive = andnot(alive, hit);
+                    } else {
+                        // inclusive tmax: a later equal-t hit still reaches the index tie-break
+                        wp.tmax = select(best.update(hit, t, id), t, wp.tmax);
+                    }
+                    hit_any |= any(hit);
+                }
+            }
+            if (hit_any) {
+                if (AnyHit && none(alive)) return;
+                tfar = reach();
+            }
+        } else {
+            const BvhNode<W>& node = bvh.nodes[cur];
+            vw near_w;
+            uint32_t bits = frustum.test(node, tfar, near_w);
+            alignas(64) float near[W];
+            store(near, near_w);
+            const vb live = alive & (vf(cur_near) <= wp.tmax);
+            const int base = top;  // this node's stacked children: nearest on top
+            bool have = false;
+            Entry next{};
+            while (bits) {
+                const int c = std::countr_zero(bits);
+                bits &= bits - 1;
+                vf lane_near;
+                if (none(rays.template test<true>(node, c, live, wp.tmax, lane_near))) continue;
+                Entry e{node.child[c], near[c]};
+                prefetch_child(bvh, e.child);
+                if (!have) {
+                    have = true;
+                    next = e;
+                    continue;
+                }
+                if (e.near < next.near) std::swap(e, next);
+                int j = top++;
+                for (; j > base && stack[j - 1].near < e.near; --j) stack[j] = stack[j - 1];
+                stack[j] = e;
+            }
+            if (have) {
+                cur = next.child;
+                cur_near = next.near;
+                continue;
+            }
+        }
+        for (;;) {
+            if (top == 0) return;
+            const Entry& e = stack[--top];
+            if (e.near <= tfar) {
+                cur = e.child;
+                cur_near = e.near;
+                break;
+            }
+        }
+    }
+}
+
 /// traverse() with the node test the packet's direction signs allow.
 template <int W, bool AnyHit>
 void traverse_packet(const Bvh<W>& bvh, const PacketRays& p, PacketHit<K>& best, vb& blocked) {
     if (!any(p.active)) return;
     if (p.same_signs)
-        traverse<W, AnyHit, true>(bvh, p, best, blocked);
+        traverse_frustum<W, AnyHit>(bvh, p, best, blocked);
     else
         traverse<W, AnyHit, false>(bvh, p, best, blocked);
 }
 
-template <typename Packet>
-void for_each_packet(std::span<const Ray> rays, Packet&& packet) {
-    for (size_t first = 0; first < rays.size(); first += K)
-        packet(rays.subspan(first, std::min(size_t(K), rays.size() - first)), first);
+/// Closest hits of the lanes `used` of `packet`: hit(lane, Hit) for each.
+template <int W, typename Out>
+void trace_block(const Bvh<W>& bvh, const RayPacket<K>& packet, uint32_t used, Out&& hit) {
+    const PacketRays p(packet, used, bvh.padded_bounds);
+    PacketHit<K> best;
+    vb unused(false);
+    traverse_packet<W, false>(bvh, p, best, unused);
+    for (uint32_t bits = used; bits; bits &= bits - 1) {
+        const int i = std::countr_zero(bits);
+        hit(i, (p.single >> i) & 1u                       ? trace_bvh(bvh, packet.get(i))
+               : best.tri[i] == int32_t(invalid_triangle) ? Hit{}
+                                                          : Hit{best.t[i], uint32_t(best.tri[i])});
+    }
+}
+
+/// Lane bits of the lanes `used` of `packet` that some triangle blocks.
+template <int W>
+uint32_t blocked_block(const Bvh<W>& bvh, const RayPacket<K>& packet, uint32_t used) {
+    const PacketRays p(packet, used, bvh.padded_bounds);
+    PacketHit<K> unused;
+    vb blocked(false);
+    traverse_packet<W, true>(bvh, p, unused, blocked);
+    uint32_t bits = movemask(blocked) & used & ~p.single;
+    for (uint32_t odd = p.single; odd; odd &= odd - 1) {
+        const int i = std::countr_zero(odd);
+        if (occluded_bvh(bvh, packet.get(i))) bits |= 1u << i;
+    }
+    return bits;
+}
+
+/// Runs `block(packet, used)` on each packet of K consecutive rays.
+template <typename Block>
+void for_each_run(std::span<const Ray> rays, Block&& block) {
+    RayPacket<K> packet;
+    for (size_t first = 0; first < rays.size(); first += K) {
+        const size_t n = std::min(size_t(K), rays.size() - first);
+        for (size_t i = 0; i < size_t(K); ++i) packet.set(int(i), rays[first + (i < n ? i : 0)]);
+        block(packet, n == size_t(K) ? ~0u >> (32 - K) : (1u << n) - 1u, first);
+    }
 }
 
 }  // namespace
@@ -218,57 +401,48 @@ void for_each_packet(std::span<const Ray> rays, Packet&& packet) {
 template <int W>
 void trace_bvh_packets(const Bvh<W>& bvh, std::span<const Ray> rays, std::span<Hit> hits) {
     if (bvh.nodes.empty()) return std::fill(hits.begin(), hits.end(), Hit{});
-    for_each_packet(rays, [&](std::span<const Ray> part, size_t first) {
-        const PacketRays p(part, bvh.padded_bounds);
-        PacketHit<K> best;
-        vb unused(false);
-        traverse_packet<W, false>(bvh, p, best, unused);
-        for (size_t i = 0; i < part.size(); ++i)
-            hits[first + i] = (p.single >> i) & 1u ? trace_bvh(bvh, part[i])
-                              : best.tri[int(i)] == int32_t(invalid_triangle)
-                                  ? Hit{}
-                                  : Hit{best.t[int(i)], uint32_t(best.tri[int(i)])};
+    for_each_run(rays, [&](const RayPacket<K>& packet, uint32_t used, size_t first) {
+        trace_block(bvh, packet, used, [&](int i, Hit h) { hits[first + size_t(i)] = h; });
     });
 }
 
 template <int W>
 void visible_bvh_packets(const Bvh<W>& bvh, std::span<const Ray> rays, std::span<uint8_t> visible) {
     if (bvh.nodes.empty()) return std::fill(visible.begin(), visible.end(), uint8_t(1));
-    for_each_packet(rays, [&](std::span<const Ray> part, size_t first) {
-        const PacketRays p(part, bvh.padded_bounds);
-        PacketHit<K> unused;
-        vb blocked(false);
-        traverse_packet<W, true>(bvh, p, unused, blocked);
-        const uint32_t bits = movemask(blocked);
-        for (size_t i = 0; i < part.size(); ++i)
-            visible[first + i] =
-                (p.single >> i) & 1u ? !occluded_bvh(bvh, part[i]) : !((bits >> i) & 1u);
+    for_each_run(rays, [&](const RayPacket<K>& packet, uint32_t used, size_t first) {
+        const uint32_t blocked = blocked_block(bvh, packet, used);
+        for (uint32_t bits = used; bits; bits &= bits - 1) {
+            const int i = std::countr_zero(bits);
+            visible[first + size_t(i)] = !((blocked >> i) & 1u);
+        }
     });
 }
 
 template <int W>
-uint64_t visible_segment_packets(const Bvh<W>& bvh, const SegmentTile& tile,
-                                 std::span<uint8_t> visible) {
-    // The active segments as shadow rays, K at a time.
-    Ray rays[K];
-    size_t index[K];
-    size_t n = 0;
+void trace_bvh_tile(const Bvh<W>& bvh, const RayTile& tile, std::span<Hit> hits) {
+    if (bvh.nodes.empty()) return std::fill(hits.begin(), hits.end(), Hit{});
+    for_each_ray_block<K>(
+        tile, [](int) { return true; },
+        [&](const RayPacket<K>& packet, uint32_t used, const int* sample) {
+            trace_block(bvh, packet, used, [&](int i, Hit h) { hits[size_t(sample[i])] = h; });
+        });
+}
+
+template <int W>
+uint64_t visible_bvh_segments(const Bvh<W>& bvh, const SegmentTile& tile,
+                              std::span<uint8_t> visible) {
     uint64_t traced = 0;
-    uint8_t out[K];
-    const auto flush = [&] {
-        visible_bvh_packets(bvh, std::span<const Ray>(rays, n), std::span<uint8_t>(out, n));
-        for (size_t j = 0; j < n; ++j) visible[index[j]] = out[j];
-        traced += n;
-        n = 0;
-    };
-    for (size_t i = 0; i < tile.points.size(); ++i) {
-        visible[i] = 0;
-        if (!tile.active[i]) continue;
-        rays[n] = shadow_ray(tile.light, tile.points[i]);
-        index[n++] = i;
-        if (n == size_t(K)) flush();
-    }
-    if (n > 0) flush();
+    for (size_t i = 0; i < tile.points.size(); ++i) visible[i] = 0;
+    for_each_segment_block<K>(
+        tile, [&](int s) { return tile.active[size_t(s)] != 0; },
+        [&](const RayPacket<K>& packet, uint32_t used, const int* sample) {
+            const uint32_t blocked = bvh.nodes.empty() ? 0u : blocked_block(bvh, packet, used);
+            for (uint32_t bits = used; bits; bits &= bits - 1) {
+                const int i = std::countr_zero(bits);
+                visible[size_t(sample[i])] = !((blocked >> i) & 1u);
+            }
+            traced += uint64_t(std::popcount(used));
+        });
     return traced;
 }
 
@@ -276,8 +450,9 @@ template void trace_bvh_packets<bvh_width>(const Bvh<bvh_width>&, std::span<cons
                                            std::span<Hit>);
 template void visible_bvh_packets<bvh_width>(const Bvh<bvh_width>&, std::span<const Ray>,
                                              std::span<uint8_t>);
-template uint64_t visible_segment_packets<bvh_width>(const Bvh<bvh_width>&, const SegmentTile&,
-                                                     std::span<uint8_t>);
+template void trace_bvh_tile<bvh_width>(const Bvh<bvh_width>&, const RayTile&, std::span<Hit>);
+template uint64_t visible_bvh_segments<bvh_width>(const Bvh<bvh_width>&, const SegmentTile&,
+                                                  std::span<uint8_t>);
 
 }  // namespace RTT_ISA_NS
 }  // namespace rtt
