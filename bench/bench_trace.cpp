@@ -27,6 +27,7 @@
 #include "bench_args.h"
 #include "cli_values.h"
 #include "experiments/workload.h"
+#include "rtt/rtt_options.h"
 
 namespace rtt::bench {
 namespace {
@@ -39,6 +40,13 @@ struct Frame {
     /// Per band, per primary tile / per shadow job: rtt answered at least one of its rays.
     std::vector<std::vector<uint8_t>> tile_answered, job_answered;
 };
+
+/// The tracer `kind` as timed here: rtt with its BVH built at setup, as in rtt bench
+/// (RttOptions::bvh_at_setup), so no frame pays for the build.
+std::unique_ptr<Tracer> timed_tracer(const std::string& kind, const BenchScene& scene) {
+    if (kind == "rtt") return make_rtt_tracer(scene.scene, scene.tree, {.bvh_at_setup = true});
+    return make_tracer(kind, scene.scene, scene.tree);
+}
 
 /// Which primary tiles and shadow jobs of `f` rtt answers (from a relevant list, at least one
 /// ray): the Split benchmarks' halves.
@@ -94,7 +102,7 @@ Frame make_frame(const std::string& scene_name, int width, int height, int aa, i
 const Frame* frame = nullptr;
 
 void primary(benchmark::State& state, const std::string& kind) {
-    const auto tracer = make_tracer(kind, frame->scene.scene, frame->scene.tree);
+    const auto tracer = timed_tracer(kind, frame->scene);
     std::vector<Hit> hits;
     for (auto _ : state)
         for (const Band& band : frame->bands) {
@@ -111,7 +119,7 @@ void primary(benchmark::State& state, const std::string& kind) {
 }
 
 void shadow(benchmark::State& state, const std::string& kind) {
-    const auto tracer = make_tracer(kind, frame->scene.scene, frame->scene.tree);
+    const auto tracer = timed_tracer(kind, frame->scene);
     const std::vector<Light>& lights = frame->scene.scene.lights;
     std::vector<uint8_t> visible;
     for (auto _ : state)
@@ -134,7 +142,7 @@ void shadow(benchmark::State& state, const std::string& kind) {
 /// answers (answered = true) or those it declines, band by band, with the next one prefetched
 /// as in primary() and shadow().
 void split(benchmark::State& state, const std::string& kind, bool shadows, bool answered) {
-    const auto tracer = make_tracer(kind, frame->scene.scene, frame->scene.tree);
+    const auto tracer = timed_tracer(kind, frame->scene);
     const std::vector<Light>& lights = frame->scene.scene.lights;
     std::vector<std::vector<size_t>> chosen(frame->bands.size());
     uint64_t tiles = 0;

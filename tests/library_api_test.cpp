@@ -203,9 +203,11 @@ TEST(LibraryApi, RttOptionsChangeTheWorkNeverTheAnswers) {
         {.deferred_budget_base = 1},
         {.lean_max_samples = 0},
         {.lean_max_samples = rtt_max_samples_per_tile},
+        // declined tiles through the BVH from the start (these tiles' rays lie sparsely)
+        {.walk_budget_base = 1, .walk_budget_per_sample = 0, .bvh_at_setup = true},
     };
     const Camera camera{{3.f, 2.f, 4.f}, {0.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, 55.f};
-    std::vector<uint64_t> answered;
+    std::vector<uint64_t> answered, through_bvh;
     for (const RttOptions& options : configs) {
         const auto rtt = make_rtt_tracer(scene, tree, options);
         RttStats stats;
@@ -225,8 +227,10 @@ TEST(LibraryApi, RttOptionsChangeTheWorkNeverTheAnswers) {
         }
         EXPECT_EQ(mismatches, 0u);
         answered.push_back(stats.answered);
+        through_bvh.push_back(stats.bvh_rays);
     }
     EXPECT_GT(answered[0], 0u);
+    EXPECT_GT(through_bvh.back(), 0u);
     EXPECT_LT(answered[2], answered[0]);  // a one-node walk answers less
     EXPECT_THROW(make_rtt_tracer(scene, tree, {.walk_budget_base = 0}), Error);
     EXPECT_THROW(make_rtt_tracer(scene, tree, {.lean_max_samples = -1}), Error);

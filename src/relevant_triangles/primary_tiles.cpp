@@ -62,6 +62,12 @@ bool RttTracer::spread(std::span<const Ray> rays) {
     return false;
 }
 
+bool RttTracer::bvh_pays_declined(size_t rays) const {
+    if (bvh_built_.load(std::memory_order_acquire)) return true;
+    const uint64_t seen = sparse_rays_.fetch_add(rays, std::memory_order_relaxed) + rays;
+    return double(seen) >= declined_rays_per_triangle * double(triangles_.size());
+}
+
 bool RttTracer::bvh_pays(size_t rays) const {
     if (bvh_built_.load(std::memory_order_acquire)) return true;
     // Once such rays reach loose_rays_per_triangle per triangle, the build has cost about what
@@ -153,7 +159,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
     if (!shaft) p.declined = Decline::no_shaft;
     if (outcome == ListOutcome::untraced) {
         const FallbackClock clock(st.fallback_ns);
-        trace_declined(tile, p.corners, hits);
+        trace_declined(tile, p.corners, hits, st);
         count_decline(st, p.declined);
         return;
     }
@@ -197,7 +203,7 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         // are rewritten, unchanged) costs less than the inner rays 16 at a time.
         count_decline(st, p.declined);
         const FallbackClock clock(st.fallback_ns);
-        trace_declined(tile, p.corners, hits);
+        trace_declined(tile, p.corners, hits, st);
         return;
     }
     if (need.none(n)) return;
@@ -212,18 +218,31 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
         });
 }
 
-void RttTracer::trace_declined(const RayTile& tile, const Ray (&corners)[4],
-                               std::span<Hit> hits) const {
-    // One large packet pays on narrow regions only (docs/benchmarks.md, "Frustum tracer"):
-    // both diagonals within 2 degrees.
-    const auto cos_angle = [](const Vec3f& a, const Vec3f& b) {
-        return dot(a, b) / (length(a) * length(b));
+void RttTracer::trace_declined(const RayTile& tile, const Ray (&corners)[4], std::span<Hit> hits,
+                               RttStats& st) const {
+    // Dense regions go as one large kd-tree packet, sparser ones through the BVH's 16-ray
+    // packets once it is built (docs/benchmarks.md, "RTT's fallback"): dense when the corner
+    // diagonals' angle over the samples between them is below dense_sample_radians.
+    const auto angle = [](const Vec3f& a, const Vec3f& b) {
+        return std::acos(std::clamp(dot(a, b) / (length(a) * length(b)), -1.f, 1.f));
     };
-    constexpr float cos_max_diagonal = 0.99939f;  // cos(2 degrees)
-    const bool narrow = cos_angle(corners[0].dir, corners[3].dir) > cos_max_diagonal &&
-                        cos_angle(corners[1].dir, corners[2].dir) > cos_max_diagonal;
-    if (!narrow || !trace_frustum(tree_, triangles_, tile.rays, tile.width, tile.height, hits))
+    constexpr float degree = 3.14159265f / 180.f;
+    constexpr float dense_sample_radians = 0.055f * degree;
+    // Without the BVH, one large packet still pays up to 2 degrees, the 16-ray packets beyond.
+    constexpr float narrow_radians = 2.f * degree;
+    const float diagonal =
+        std::max(angle(corners[0].dir, corners[3].dir), angle(corners[1].dir, corners[2].dir));
+    const float steps = std::hypot(float(tile.width - 1), float(tile.height - 1));
+    const bool dense = diagonal < dense_sample_radians * steps;
+    if (dense && trace_frustum(tree_, triangles_, tile.rays, tile.width, tile.height, hits)) return;
+    if (!dense && bvh_pays_declined(tile.rays.size())) {
+        trace_bvh_tile(bvh(), tile, hits);
+        st.bvh_rays += uint64_t(tile.rays.size());
+    } else if (diagonal < narrow_radians &&
+               trace_frustum(tree_, triangles_, tile.rays, tile.width, tile.height, hits)) {
+    } else {
         trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
+    }
 }
 
 uint64_t RttTracer::answer_primary(const RayTile& tile, const Shaft& s, const RelevantList& list,

@@ -76,6 +76,9 @@ inline constexpr int fallback_width = simd_max_width;
 /// them (RttTracer::spread, bvh_pays; measured in docs/benchmarks.md, "Loose rays").
 inline constexpr float loose_cos_max = 0.99619f;  // cos(5 degrees)
 inline constexpr double loose_rays_per_triangle = 10.0;
+/// Rays of sparse declined regions per triangle after which the BVH is built for them: its
+/// build over what it saves per such ray (docs/benchmarks.md, "RTT's fallback").
+inline constexpr double declined_rays_per_triangle = 30.0;
 // The budgets and the lean pass's extent are RttOptions (include/rtt/rtt_options.h); the
 // defaults there were measured in docs/benchmarks.md ("The lean corner pass at K = 2", "What an
 // answered tile costs"). Cost rules, not exactness ones.
@@ -146,7 +149,9 @@ public:
           planes_(compute_plane_ids(triangles_)),
           normals_(triangles_, planes_),
           options_(options),
-          extended_(options.rules == RttRules::extended) {}
+          extended_(options.rules == RttRules::extended) {
+        if (options.bvh_at_setup) bvh();
+    }
     std::string_view name() const override { return extended_ ? "rtt" : "rtt-paper"; }
 
     void intersect(const RayTile& tile, std::span<Hit> hits,
@@ -166,9 +171,10 @@ private:
     // Tiles that are no shaft (reflections off curved mirrors, their shadow segments) go
     // through the BVH's packets rather than the kd-tree's when it is built or has paid for its
     // build; reflected rays only when their directions spread widely (docs/benchmarks.md,
-    // "Loose rays").
+    // "Loose rays"). Declined shaft regions whose rays lie sparsely go through it too.
     static bool spread(std::span<const Ray> rays);
     bool bvh_pays(size_t rays) const;
+    bool bvh_pays_declined(size_t rays) const;
     static bool shaft_tile(bool shaft, int width, int height, size_t n) {
         return shaft && width >= 2 && height >= 2 && size_t(width) * size_t(height) == n &&
                n <= size_t(rtt_max_tile_samples);
@@ -189,9 +195,10 @@ private:
     void intersect_shaft(const RayTile& tile, std::span<Hit> hits, std::span<SampleAnswer> answers,
                          RttStats& st) const;
     /// A shaft tile no list answers, with corner rays `corners` (0 and 3, 1 and 2 opposite):
-    /// one large packet (trace_frustum.h) when its rays share an origin and it is narrow, else
-    /// the widest packets.
-    void trace_declined(const RayTile& tile, const Ray (&corners)[4], std::span<Hit> hits) const;
+    /// one large kd-tree packet (trace_frustum.h) when its rays share an origin and lie
+    /// densely, else the BVH's packets (built on the first such tile); counts BVH rays in `st`.
+    void trace_declined(const RayTile& tile, const Ray (&corners)[4], std::span<Hit> hits,
+                        RttStats& st) const;
     void occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visible,
                         std::span<SampleAnswer> answers, RttStats& st) const;
     bool one_receiver_plane(const SegmentTile& tile) const;
@@ -249,7 +256,8 @@ private:
     mutable std::once_flag bvh_once_;
     mutable std::unique_ptr<const Bvh<bvh_width>> bvh_;
     mutable std::atomic<bool> bvh_built_{false};
-    mutable std::atomic<uint64_t> loose_rays_{0};  ///< Spread rays of tiles that are no shaft.
+    mutable std::atomic<uint64_t> loose_rays_{0};   ///< Spread rays of tiles that are no shaft.
+    mutable std::atomic<uint64_t> sparse_rays_{0};  ///< Rays of sparse declined regions.
 };
 
 }  // namespace rtt_detail

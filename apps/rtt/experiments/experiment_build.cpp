@@ -27,15 +27,15 @@ double median_of(std::vector<double> v) {
 struct BuildTimes {
     double kd_seconds = 0, bvh_seconds = -1;  ///< Medians; bvh -1 without Embree.
     double bvh_medium_seconds = -1;           ///< Embree's MEDIUM build (its default).
-    double rtt_setup_seconds = 0;  ///< make_tracer("rtt") on a built tree (plane ids, normals).
+    double rtt_setup_seconds = 0;  ///< make_bench_tracer("rtt") on a built tree (plane ids, BVH).
     double our_bvh_seconds = 0;    ///< make_tracer("bvh"): the bvh kind's BVH.
     KdStats kd;                    ///< The last kd-tree built.
 };
 
-/// Wall seconds of make_tracer(kind, ...).
+/// Wall seconds of make_bench_tracer(kind, ...).
 double setup_seconds(const std::string& kind, const BenchScene& scene, const KdTree& tree) {
     const auto start = std::chrono::steady_clock::now();
-    const std::unique_ptr<Tracer> tracer = make_tracer(kind, scene.scene, tree);
+    const std::unique_ptr<Tracer> tracer = make_bench_tracer(kind, scene.scene, tree);
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 

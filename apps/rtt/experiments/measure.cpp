@@ -157,6 +157,12 @@ bool has_tracer(const std::string& kind) {
     return std::find(kinds.begin(), kinds.end(), kind) != kinds.end();
 }
 
+std::unique_ptr<Tracer> make_bench_tracer(const std::string& kind, const Scene& scene,
+                                          const KdTree& tree) {
+    if (kind == "rtt") return make_rtt_tracer(scene, tree, {.bvh_at_setup = true});
+    return make_tracer(kind, scene, tree);
+}
+
 std::vector<NamedTracer> make_tracers(const BenchScene& scene,
                                       const std::vector<std::string>& kinds) {
     std::vector<NamedTracer> out;
@@ -164,7 +170,7 @@ std::vector<NamedTracer> make_tracers(const BenchScene& scene,
         if (!has_tracer(kind)) continue;
         NamedTracer t;
         t.kind = kind;
-        t.tracer = make_tracer(kind, scene.scene, scene.tree);
+        t.tracer = make_bench_tracer(kind, scene.scene, scene.tree);
         t.exact = kind.rfind("embree", 0) != 0;
         t.own_build_seconds = embree_build_seconds(*t.tracer);
         out.push_back(std::move(t));

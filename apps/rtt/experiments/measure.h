@@ -69,6 +69,12 @@ struct NamedTracer {
     double own_build_seconds = -1;  ///< Embree's BVH build; -1 for kd-tree tracers.
 };
 
+/// make_tracer(kind, ...) as the benchmarks use it: `rtt` with its BVH built at setup
+/// (RttOptions::bvh_at_setup), the state a long render reaches, so frames are timed apart
+/// from builds as for every other tracer; its build is in rtt's setup time.
+std::unique_ptr<Tracer> make_bench_tracer(const std::string& kind, const Scene& scene,
+                                          const KdTree& tree);
+
 /// Builds the tracers of `kinds` over `scene` (kinds this build lacks are skipped), on the
 /// calling thread's oneTBB arena. Throws rtt::Error if `kinds` names an unknown tracer.
 std::vector<NamedTracer> make_tracers(const BenchScene& scene,
