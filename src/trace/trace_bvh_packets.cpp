@@ -1,9 +1,10 @@
-// Coherent rays through the BVH in packets of the ISA's widest vector: each node's boxes are
-// fetched once for all lanes and each child is tested against every lane at once, so rays that
-// travel together (a tile's rows, reflections off one curved mirror) share the traversal.
-// Exact: a lane enters a child when its own widened slab interval meets its [tmin, closest hit]
-// (trace_bvh.cpp's test, lane by lane: docs/design.md, "The BVH for arbitrary rays"), and its
-// triangles are tested with the packet form of the one watertight test, so every lane's hit is
+// Coherent rays through the BVH in packets of the ISA's widest vector (4x4 samples of a tile),
+// one traversal per direction octant: each node's children are culled by one test of the
+// packet's frustum, and the survivors tested against every lane at once, so rays that travel
+// together (a tile's samples, reflections off one curved mirror) share the traversal.
+// Exact: the frustum passes every child a lane's own widened slab test passes, a lane's
+// triangles are those its single ray would test (docs/design.md, "The BVH for arbitrary
+// rays"), tested with the packet form of the one watertight test, so every lane's hit is
 // trace_bvh's bit for bit. Lanes whose direction has a zero or tiny component take the
 // single-ray kernel, which handles those axes.
 #include <algorithm>
@@ -31,8 +32,8 @@ struct PacketRays {
     vf tmin, tmax;
     vf inv[3], org_inv[3];
     vf t_margin;  ///< As trace_bvh.cpp's BoxRay::t_margin, per lane.
-    /// Every traced lane's direction has one sign per axis: the faces each axis enters and
-    /// leaves by are then the packet's, at these byte offsets from a child's lo.x.
+    /// Every traced lane's direction has one sign per axis (else traversals go by octant);
+    /// the faces each axis enters and leaves by, at byte offsets from a child's lo.x.
     bool same_signs = false;
     uint32_t enter[3] = {}, leave[3] = {};
     vb active;            ///< Lanes traced here.
@@ -57,50 +58,44 @@ struct PacketRays {
             org_t = max(org_t, abs(org_inv[a]));
         }
         single = movemask(odd) & used;
-        active = vb::from_bits(used & ~single);
+        restrict_to(used & ~single);
+        const vf scale = min(dist / dmax, vf(FLT_MAX)) + org_t * vf(0x1p-6f);
+        t_margin = vf(2.f * kd_margin) * min(scale, vf(FLT_MAX));
+    }
+
+    /// Traces only the lanes `lanes`: sets `active`, and whether they share direction signs
+    /// with the faces those signs enter and leave by.
+    void restrict_to(uint32_t lanes) {
+        active = vb::from_bits(lanes);
         same_signs = true;
         using Node = BvhNode<bvh_width>;
+        const vf* dv[3] = {&dir.x, &dir.y, &dir.z};
         for (int a = 0; a < 3; ++a) {
-            const uint32_t traced = movemask(active), neg = signbits(*dv[a]) & traced;
-            same_signs &= neg == 0 || neg == traced;
+            const uint32_t neg = signbits(*dv[a]) & lanes;
+            same_signs &= neg == 0 || neg == lanes;
             const uint32_t lo = uint32_t(sizeof(float) * bvh_width * size_t(a));
             const uint32_t hi = lo + uint32_t(offsetof(Node, hi) - offsetof(Node, lo));
             enter[a] = neg ? hi : lo;
             leave[a] = neg ? lo : hi;
         }
-        const vf scale = min(dist / dmax, vf(FLT_MAX)) + org_t * vf(0x1p-6f);
-        t_margin = vf(2.f * kd_margin) * min(scale, vf(FLT_MAX));
     }
 
     /// Lanes of `lanes` whose widened interval in child `c`'s box meets [tmin, tmax]; their
-    /// widened entry distances in `near`.
-    template <bool SameSigns, int W>
+    /// widened entry distances in `near`. The lanes share direction signs (restrict_to).
+    template <int W>
     RTT_FORCEINLINE vb test(const BvhNode<W>& n, int c, vb lanes, vf tmax_now, vf& near) const {
         static_assert(W == bvh_width);
-        vf tn = tmin, tf = tmax_now;
-        vf enter_t, leave_t;
-        if constexpr (SameSigns) {
-            const char* base = reinterpret_cast<const char*>(&n.lo[0][c]);
-            const auto face = [&](uint32_t offset, int a) {
-                const float f = *reinterpret_cast<const float*>(base + offset);
-                return mul_sub(vf(f), inv[a], org_inv[a]);
-            };
-            enter_t = max(max(face(enter[0], 0), face(enter[1], 1)), face(enter[2], 2));
-            leave_t = min(min(face(leave[0], 0), face(leave[1], 1)), face(leave[2], 2));
-        } else {
-            vf lo_t[3], hi_t[3];
-            for (int a = 0; a < 3; ++a) {
-                lo_t[a] = mul_sub(vf(n.lo[a][c]), inv[a], org_inv[a]);
-                hi_t[a] = mul_sub(vf(n.hi[a][c]), inv[a], org_inv[a]);
-            }
-            enter_t = max(max(min(lo_t[0], hi_t[0]), min(lo_t[1], hi_t[1])), min(lo_t[2], hi_t[2]));
-            leave_t = min(min(max(lo_t[0], hi_t[0]), max(lo_t[1], hi_t[1])), max(lo_t[2], hi_t[2]));
-        }
-        const vf enter = enter_t, leave = leave_t;
+        const char* base = reinterpret_cast<const char*>(&n.lo[0][c]);
+        const auto face = [&](uint32_t offset, int a) {
+            const float f = *reinterpret_cast<const float*>(base + offset);
+            return mul_sub(vf(f), inv[a], org_inv[a]);
+        };
+        const vf enter_t = max(max(face(enter[0], 0), face(enter[1], 1)), face(enter[2], 2));
+        const vf leave_t = min(min(face(leave[0], 0), face(leave[1], 1)), face(leave[2], 2));
         const vf shrink(1.f - 2.f * kd_margin), grow(1.f + 2.f * kd_margin);
-        near = min(mul_sub(enter, shrink, t_margin), mul_sub(enter, grow, t_margin));
-        const vf far = max(mul_add(leave, grow, t_margin), mul_add(leave, shrink, t_margin));
-        return lanes & (max(near, tn) <= min(far, tf));
+        near = min(mul_sub(enter_t, shrink, t_margin), mul_sub(enter_t, grow, t_margin));
+        const vf far = max(mul_add(leave_t, grow, t_margin), mul_add(leave_t, shrink, t_margin));
+        return lanes & (max(near, tmin) <= min(far, tmax_now));
     }
 };
 
@@ -155,88 +150,6 @@ struct PacketFrustum {
         return movemask(max(near, vw(tmin)) <= min(far, vw(tfar))) & used;
     }
 };
-
-template <int W>
-struct PacketEntry {
-    vf near;  ///< Widened entry distance per lane; +inf where the lane does not enter.
-    uint32_t child;
-};
-
-/// Closest hits (AnyHit: whether some triangle blocks) of the packet's active lanes.
-template <int W, bool AnyHit, bool SameSigns>
-void traverse(const Bvh<W>& bvh, const PacketRays& rays, PacketHit<K>& best, vb& blocked) {
-    WatertightPacket<K> wp(rays.org, rays.dir, rays.tmin, rays.tmax, rays.active);
-    vb alive = rays.active;  // AnyHit: lanes not blocked yet
-    PacketEntry<W> stack[(W - 1) * bvh_max_depth + W];
-    int top = 0;
-    uint32_t cur = 0;
-    vf cur_near = select(rays.active, rays.tmin, vf(pos_inf));
-    const vf inf(pos_inf);
-    for (;;) {
-        const vb active = alive & (cur_near <= wp.tmax);
-        if (cur & bvh_leaf_bit) {
-            const uint32_t first = (cur & ~bvh_leaf_bit) >> 3, count = cur & 7u;
-            vb lanes = active;
-            for (uint32_t k = first; k < first + count && any(lanes); ++k) {
-                const BvhTriangles4& q = bvh.blocks[k];
-                for (int l = 0; l < 4; ++l) {
-                    const uint32_t id = q.id[l];
-                    if (id == invalid_triangle) continue;
-                    const TriangleVerts tri{{q.v0[0][l], q.v0[1][l], q.v0[2][l]},
-                                            {q.v1[0][l], q.v1[1][l], q.v1[2][l]},
-                                            {q.v2[0][l], q.v2[1][l], q.v2[2][l]}};
-                    vf t(0.f);
-                    const vb hit = intersect_watertight<K>(wp, lanes, tri, t);
-                    if constexpr (AnyHit) {
-                        blocked |= hit;
-                        lanes = andnot(lanes, hit);
-                        alive = andnot(alive, hit);
-                    } else {
-                        // inclusive tmax: a later equal-t hit still reaches the index tie-break
-                        wp.tmax = select(best.update(hit, t, id), t, wp.tmax);
-                    }
-                }
-            }
-        } else if (any(active)) {
-            const BvhNode<W>& node = bvh.nodes[cur];
-            bool have = false;
-            uint32_t next = 0;
-            vf next_near = inf;
-            for (int c = 0; c < int(node.count); ++c) {
-                vf near;
-                const vb enter = rays.template test<SameSigns>(node, c, active, wp.tmax, near);
-                if (none(enter)) continue;
-                const vf dist = select(enter, near, inf);
-                if (!have) {
-                    have = true;
-                    next = node.child[c];
-                    next_near = dist;
-                } else if (any(dist < next_near)) {  // nearer for some lane: that one first
-                    stack[top++] = {next_near, next};
-                    next = node.child[c];
-                    next_near = dist;
-                } else {
-                    stack[top++] = {dist, node.child[c]};
-                }
-            }
-            if (have) {
-                cur = next;
-                cur_near = next_near;
-                continue;
-            }
-        }
-        // Next: a waiting subtree some live lane may still find a closer hit in.
-        for (;;) {
-            if (top == 0) return;
-            const PacketEntry<W>& e = stack[--top];
-            if (any(alive & (e.near <= wp.tmax))) {
-                cur = e.child;
-                cur_near = e.near;
-                break;
-            }
-        }
-    }
-}
 
 /// Starts loading a child the packet will visit: a node's four cache lines, or a leaf's first
 /// block (the node's fetch is what a packet step waits on).
@@ -314,7 +227,7 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays& rays, PacketHit<K>& b
                 const int c = std::countr_zero(bits);
                 bits &= bits - 1;
                 vf lane_near;
-                if (none(rays.template test<true>(node, c, live, wp.tmax, lane_near))) continue;
+                if (none(rays.test(node, c, live, wp.tmax, lane_near))) continue;
                 Entry e{node.child[c], near[c]};
                 prefetch_child(bvh, e.child);
                 if (!have) {
@@ -349,10 +262,18 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays& rays, PacketHit<K>& b
 template <int W, bool AnyHit>
 void traverse_packet(const Bvh<W>& bvh, const PacketRays& p, PacketHit<K>& best, vb& blocked) {
     if (!any(p.active)) return;
-    if (p.same_signs)
-        traverse_frustum<W, AnyHit>(bvh, p, best, blocked);
-    else
-        traverse<W, AnyHit, false>(bvh, p, best, blocked);
+    if (p.same_signs) return traverse_frustum<W, AnyHit>(bvh, p, best, blocked);
+    // Lanes of differing signs: one frustum per direction octant (lanes are independent).
+    const uint32_t sx = signbits(p.dir.x), sy = signbits(p.dir.y), sz = signbits(p.dir.z);
+    PacketRays part = p;
+    for (uint32_t rest = movemask(p.active); rest;) {
+        const int lane = std::countr_zero(rest);
+        const auto same = [&](uint32_t bits) { return ~(bits ^ (0u - ((bits >> lane) & 1u))); };
+        const uint32_t lanes = same(sx) & same(sy) & same(sz) & rest;
+        rest &= ~lanes;
+        part.restrict_to(lanes);
+        traverse_frustum<W, AnyHit>(bvh, part, best, blocked);
+    }
 }
 
 /// Closest hits of the lanes `used` of `packet`: hit(lane, Hit) for each.
