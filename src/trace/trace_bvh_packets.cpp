@@ -36,6 +36,9 @@ struct PacketRays {
     /// the faces each axis enters and leaves by, at byte offsets from a child's lo.x.
     bool same_signs = false;
     uint32_t enter[3] = {}, leave[3] = {};
+    /// Every traced lane starts at the same point (bit for bit: a camera, a light): a
+    /// triangle's vertices relative to it are then one subtraction for all lanes.
+    bool common_origin = false;
     vb active;            ///< Lanes traced here.
     uint32_t single = 0;  ///< Lanes left to the single-ray kernel.
 
@@ -59,6 +62,13 @@ struct PacketRays {
         }
         single = movemask(odd) & used;
         restrict_to(used & ~single);
+        if (const uint32_t traced = used & ~single) {
+            const int l = std::countr_zero(traced);
+            const auto same = [&](vf v) {
+                return movemask(as_int(v) == vint<K>(as_int(v)[l])) & traced;
+            };
+            common_origin = (same(org.x) & same(org.y) & same(org.z)) == traced;
+        }
         const vf scale = min(dist / dmax, vf(FLT_MAX)) + org_t * vf(0x1p-6f);
         t_margin = vf(2.f * kd_margin) * min(scale, vf(FLT_MAX));
     }
@@ -172,6 +182,12 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays& rays, PacketHit<K>& b
     WatertightPacket<K> wp(rays.org, rays.dir, rays.tmin, rays.tmax, rays.active);
     vb alive = rays.active;
     const vf ninf(neg_inf);
+    // A common origin, permuted as the watertight test permutes (wp.uniform): the origin's
+    // coordinates to subtract from each vertex once for all lanes.
+    const bool relative = rays.common_origin && wp.uniform;
+    const int first_lane = std::countr_zero(movemask(rays.active));
+    const float po[3] = {wp.porg.x[first_lane], wp.porg.y[first_lane], wp.porg.z[first_lane]};
+    const int kx = wp.ukx, ky = wp.uky, kz = wp.ukz;
     // The farthest any live lane may still reach: what a subtree must start before.
     const auto reach = [&] { return reduce_max(select(alive, wp.tmax, ninf))[0]; };
     float tfar = reach();
@@ -193,11 +209,23 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays& rays, PacketHit<K>& b
                 for (int l = 0; l < 4; ++l) {
                     const uint32_t id = q.id[l];
                     if (id == invalid_triangle) continue;
-                    const TriangleVerts tri{{q.v0[0][l], q.v0[1][l], q.v0[2][l]},
-                                            {q.v1[0][l], q.v1[1][l], q.v1[2][l]},
-                                            {q.v2[0][l], q.v2[1][l], q.v2[2][l]}};
                     vf t(0.f);
-                    const vb hit = intersect_watertight<K>(wp, lanes, tri, t);
+                    vb hit;
+                    if (relative) {
+                        // the scalar test's a = v0 - org, b = v1 - org, c = v2 - org, permuted
+                        const RelativeTriangle<K> rel{
+                            vf(q.v0[kx][l] - po[0]), vf(q.v0[ky][l] - po[1]),
+                            vf(q.v0[kz][l] - po[2]), vf(q.v1[kx][l] - po[0]),
+                            vf(q.v1[ky][l] - po[1]), vf(q.v1[kz][l] - po[2]),
+                            vf(q.v2[kx][l] - po[0]), vf(q.v2[ky][l] - po[1]),
+                            vf(q.v2[kz][l] - po[2])};
+                        hit = intersect_watertight_relative<K>(wp, lanes, rel, t);
+                    } else {
+                        const TriangleVerts tri{{q.v0[0][l], q.v0[1][l], q.v0[2][l]},
+                                                {q.v1[0][l], q.v1[1][l], q.v1[2][l]},
+                                                {q.v2[0][l], q.v2[1][l], q.v2[2][l]}};
+                        hit = intersect_watertight<K>(wp, lanes, tri, t);
+                    }
                     if constexpr (AnyHit) {
                         blocked |= hit;
                         lanes = andnot(lanes, hit);
