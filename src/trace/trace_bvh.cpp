@@ -92,9 +92,8 @@ struct BoxRay {
         }
         // Widened by twice the margin of trace_ray's split distances: (1 -+ 2 kd_margin) scales
         // |t| down or up whatever its sign; infinities stay infinite.
-        const vf shrink(1.f - 2.f * kd_margin), grow(1.f + 2.f * kd_margin);
-        near = min(mul_sub(tn, shrink, t_margin), mul_sub(tn, grow, t_margin));
-        const vf far = max(mul_add(tf, grow, t_margin), mul_add(tf, shrink, t_margin));
+        vf far;
+        widen_interval(tn, tf, 2.f * kd_margin, t_margin, near, far);
         const uint32_t used = (1u << n.count) - 1u;
         return movemask(max(near, vf(tmin)) <= min(far, vf(tmax))) & used;
     }

@@ -16,6 +16,16 @@ inline namespace RTT_ISA_NS {
 /// Children per node of this ISA's kernel: 8 where nodes are tested with 8-lane vectors.
 inline constexpr int bvh_width = simd_max_width >= 8 ? 8 : 4;
 
+/// A box's slab interval [enter, leave] widened by `relative` * |t| + `t_margin` on each side
+/// (docs/design.md, "The BVH for arbitrary rays"): the nodes' tests, single ray and packet.
+/// Infinities stay infinite.
+template <typename V>
+RTT_FORCEINLINE void widen_interval(V enter, V leave, float relative, V t_margin, V& near, V& far) {
+    const V shrink(1.f - relative), grow(1.f + relative);
+    near = min(mul_sub(enter, shrink, t_margin), mul_sub(enter, grow, t_margin));
+    far = max(mul_add(leave, grow, t_margin), mul_add(leave, shrink, t_margin));
+}
+
 /// The closest hit of `ray` (trace_ray's, bit for bit). W = 4, or bvh_width.
 template <int W>
 Hit trace_bvh(const Bvh<W>& bvh, const Ray& ray);

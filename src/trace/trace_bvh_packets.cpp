@@ -102,9 +102,8 @@ struct PacketRays {
         };
         const vf enter_t = max(max(face(enter[0], 0), face(enter[1], 1)), face(enter[2], 2));
         const vf leave_t = min(min(face(leave[0], 0), face(leave[1], 1)), face(leave[2], 2));
-        const vf shrink(1.f - 2.f * kd_margin), grow(1.f + 2.f * kd_margin);
-        near = min(mul_sub(enter_t, shrink, t_margin), mul_sub(enter_t, grow, t_margin));
-        const vf far = max(mul_add(leave_t, grow, t_margin), mul_add(leave_t, shrink, t_margin));
+        vf far;
+        widen_interval(enter_t, leave_t, 2.f * kd_margin, t_margin, near, far);
         return lanes & (max(near, tmin) <= min(far, tmax_now));
     }
 };
@@ -153,9 +152,8 @@ struct PacketFrustum {
             tn = max(tn, min(e * vw(inv_lo[a]), e * vw(inv_hi[a])));
             tf = min(tf, max(l * vw(inv_lo[a]), l * vw(inv_hi[a])));
         }
-        const vw shrink(1.f - 4.f * kd_margin), grow(1.f + 4.f * kd_margin), m(t_margin);
-        near = min(mul_sub(tn, shrink, m), mul_sub(tn, grow, m));
-        const vw far = max(mul_add(tf, grow, m), mul_add(tf, shrink, m));
+        vw far;
+        widen_interval(tn, tf, 4.f * kd_margin, vw(t_margin), near, far);
         const uint32_t used = (1u << n.count) - 1u;
         return movemask(max(near, vw(tmin)) <= min(far, vw(tfar))) & used;
     }
