@@ -32,7 +32,8 @@ void RttTracer::intersect(const RayTile& tile, std::span<Hit> hits,
     for (SampleAnswer& a : answers) a = SampleAnswer::traced;
     if (!shaft_tile(tile.shaft, tile.width, tile.height, tile.rays.size())) {
         const FallbackClock clock(st.fallback_ns);
-        if (!tile.shaft && spread(tile.rays) && bvh_pays(tile.rays.size())) {
+        if (!tile.shaft && spread(tile.rays) &&
+            bvh_pays(loose_rays_, loose_rays_per_triangle, tile.rays.size())) {
             trace_bvh_tile(bvh(), tile, hits);
             st.bvh_rays += uint64_t(n);
         } else {
@@ -62,18 +63,12 @@ bool RttTracer::spread(std::span<const Ray> rays) {
     return false;
 }
 
-bool RttTracer::bvh_pays_declined(size_t rays) const {
+bool RttTracer::bvh_pays(std::atomic<uint64_t>& seen, double per_triangle, size_t rays) const {
     if (bvh_built_.load(std::memory_order_acquire)) return true;
-    const uint64_t seen = sparse_rays_.fetch_add(rays, std::memory_order_relaxed) + rays;
-    return double(seen) >= declined_rays_per_triangle * double(triangles_.size());
-}
-
-bool RttTracer::bvh_pays(size_t rays) const {
-    if (bvh_built_.load(std::memory_order_acquire)) return true;
-    // Once such rays reach loose_rays_per_triangle per triangle, the build has cost about what
-    // tracing them one by one saved.
-    const uint64_t seen = loose_rays_.fetch_add(rays, std::memory_order_relaxed) + rays;
-    return double(seen) >= loose_rays_per_triangle * double(triangles_.size());
+    // Once the rays it would take reach per_triangle per triangle, the build has cost about
+    // what it saves them.
+    const uint64_t total = seen.fetch_add(rays, std::memory_order_relaxed) + rays;
+    return double(total) >= per_triangle * double(triangles_.size());
 }
 
 void RttTracer::intersect_arbitrary(std::span<const Ray> rays, std::span<Hit> hits,
@@ -234,13 +229,11 @@ void RttTracer::trace_declined(const RayTile& tile, const Ray (&corners)[4], std
         std::max(angle(corners[0].dir, corners[3].dir), angle(corners[1].dir, corners[2].dir));
     const float steps = std::hypot(float(tile.width - 1), float(tile.height - 1));
     const bool dense = diagonal < dense_sample_radians * steps;
-    if (dense && trace_frustum(tree_, triangles_, tile.rays, tile.width, tile.height, hits)) return;
-    if (!dense && bvh_pays_declined(tile.rays.size())) {
+    if (!dense && bvh_pays(sparse_rays_, declined_rays_per_triangle, tile.rays.size())) {
         trace_bvh_tile(bvh(), tile, hits);
         st.bvh_rays += uint64_t(tile.rays.size());
-    } else if (diagonal < narrow_radians &&
-               trace_frustum(tree_, triangles_, tile.rays, tile.width, tile.height, hits)) {
-    } else {
+    } else if (!((dense || diagonal < narrow_radians) &&
+                 trace_frustum(tree_, triangles_, tile.rays, tile.width, tile.height, hits))) {
         trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
     }
 }

@@ -173,8 +173,9 @@ private:
     // build; reflected rays only when their directions spread widely (docs/benchmarks.md,
     // "Loose rays"). Declined shaft regions whose rays lie sparsely go through it too.
     static bool spread(std::span<const Ray> rays);
-    bool bvh_pays(size_t rays) const;
-    bool bvh_pays_declined(size_t rays) const;
+    /// Whether `rays` more (counted in `seen`) may take the BVH: it is built, or such rays
+    /// reached `per_triangle` per triangle.
+    bool bvh_pays(std::atomic<uint64_t>& seen, double per_triangle, size_t rays) const;
     static bool shaft_tile(bool shaft, int width, int height, size_t n) {
         return shaft && width >= 2 && height >= 2 && size_t(width) * size_t(height) == n &&
                n <= size_t(rtt_max_tile_samples);

@@ -55,7 +55,7 @@ void RttTracer::occluded(const SegmentTile& tile, std::span<uint8_t> visible,
     if (active_count == 0) {
     } else if (!shaft_tile(tile.shaft, tile.width, tile.height, tile.points.size())) {
         const FallbackClock clock(st.fallback_ns);
-        if (!tile.shaft && bvh_pays(active_count)) {
+        if (!tile.shaft && bvh_pays(loose_rays_, loose_rays_per_triangle, active_count)) {
             visible_bvh_segments(bvh(), tile, visible);
             st.bvh_rays += active_count;
         } else {
