@@ -14,6 +14,7 @@
 
 #include "geom/triangle_simd.h"
 #include "simd/simd.h"
+#include "trace/octant_groups.h"
 #include "trace/packet_blocks.h"
 #include "trace/trace_bvh.h"
 #include "trace/trace_ray.h"
@@ -290,16 +291,12 @@ void traverse_packet(const Bvh<W>& bvh, const PacketRays& p, PacketHit<K>& best,
     if (!any(p.active)) return;
     if (p.same_signs) return traverse_frustum<W, AnyHit>(bvh, p, best, blocked);
     // Lanes of differing signs: one frustum per direction octant (lanes are independent).
-    const uint32_t sx = signbits(p.dir.x), sy = signbits(p.dir.y), sz = signbits(p.dir.z);
     PacketRays part = p;
-    for (uint32_t rest = movemask(p.active); rest;) {
-        const int lane = std::countr_zero(rest);
-        const auto same = [&](uint32_t bits) { return ~(bits ^ (0u - ((bits >> lane) & 1u))); };
-        const uint32_t lanes = same(sx) & same(sy) & same(sz) & rest;
-        rest &= ~lanes;
-        part.restrict_to(lanes);
-        traverse_frustum<W, AnyHit>(bvh, part, best, blocked);
-    }
+    for_each_octant_group(signbits(p.dir.x), signbits(p.dir.y), signbits(p.dir.z),
+                          movemask(p.active), [&](uint32_t lanes, uint32_t) {
+                              part.restrict_to(lanes);
+                              traverse_frustum<W, AnyHit>(bvh, part, best, blocked);
+                          });
 }
 
 /// Closest hits of the lanes `used` of `packet`: hit(lane, Hit) for each.

@@ -8,6 +8,7 @@
 
 #include "geom/triangle_simd.h"
 #include "simd/simd.h"
+#include "trace/octant_groups.h"
 #include "trace/root_clip.h"
 #include "trace/trace_packet.h"
 #include "trace/trace_ray.h"
@@ -323,18 +324,10 @@ bool trace_frustum(const KdTree& tree, std::span<const TriangleVerts> triangles,
             const uint32_t in = load_square(rays, width, height, x0, y0, f);
             const vb same = (as_int(f[0]) == ox) & (as_int(f[1]) == oy) & (as_int(f[2]) == oz);
             if ((movemask(same) & in) != in) return false;
-            const uint32_t sx = signbits(f[3]), sy = signbits(f[4]), sz = signbits(f[5]);
-            for (uint32_t rest = in; rest;) {
-                const int lane = std::countr_zero(rest);
-                // all-ones where a lane's sign bit equals the first lane's, per axis
-                const uint32_t lanes = ~(sx ^ (0u - ((sx >> lane) & 1u))) &
-                                       ~(sy ^ (0u - ((sy >> lane) & 1u))) &
-                                       ~(sz ^ (0u - ((sz >> lane) & 1u))) & rest;
-                rest &= ~lanes;
-                const uint32_t o =
-                    ((sx >> lane) & 1u) | ((sy >> lane) & 1u) << 1 | ((sz >> lane) & 1u) << 2;
-                s.parts[o].push_back(Part{x0, y0, lanes});
-            }
+            for_each_octant_group(signbits(f[3]), signbits(f[4]), signbits(f[5]), in,
+                                  [&](uint32_t lanes, uint32_t octant) {
+                                      s.parts[octant].push_back(Part{x0, y0, lanes});
+                                  });
         }
     if (tree.nodes.empty()) {
         for (Hit& h : hits) h = Hit{};

@@ -6,6 +6,7 @@
 #include "geom/triangle_simd.h"
 #include "simd/simd.h"
 #include "trace/kernels.h"
+#include "trace/octant_groups.h"
 #include "trace/packet_blocks.h"
 #include "trace/root_clip.h"
 #include "trace/trace_frustum.h"
@@ -233,21 +234,14 @@ RTT_FORCEINLINE TraversalResult<K, AnyHit> traverse(const KdTree& tree,
 template <int K, typename One, typename Many>
 RTT_FORCEINLINE void for_each_octant(const RayPacket<K>& rays, uint32_t active, One&& one,
                                      Many&& many) {
-    const uint32_t sx = signbits(vfloat<K>::load(rays.dir[0]));
-    const uint32_t sy = signbits(vfloat<K>::load(rays.dir[1]));
-    const uint32_t sz = signbits(vfloat<K>::load(rays.dir[2]));
-    while (active) {
-        const int lane = std::countr_zero(active);
-        // all-ones where a lane's sign bit equals the first lane's, per axis
-        const uint32_t same = ~(sx ^ (0u - ((sx >> lane) & 1u))) &
-                              ~(sy ^ (0u - ((sy >> lane) & 1u))) &
-                              ~(sz ^ (0u - ((sz >> lane) & 1u))) & active;
-        active &= ~same;
-        if (same == (1u << lane))
-            one(lane);
-        else
-            many(same);
-    }
+    for_each_octant_group(
+        signbits(vfloat<K>::load(rays.dir[0])), signbits(vfloat<K>::load(rays.dir[1])),
+        signbits(vfloat<K>::load(rays.dir[2])), active, [&](uint32_t lanes, uint32_t) {
+            if (std::has_single_bit(lanes))
+                one(std::countr_zero(lanes));
+            else
+                many(lanes);
+        });
 }
 
 }  // namespace
