@@ -12,6 +12,7 @@
 #include "rtt/camera.h"
 #include "rtt/error.h"
 #include "rtt/kdtree.h"
+#include "view/background_kdtree.h"
 #include "view/orbit_camera.h"
 #include "view/view_state.h"
 
@@ -136,6 +137,22 @@ TEST(ViewFrames, MovingFramesUseOneSampleAndShadowsOffTracesNoSegments) {
     EXPECT_EQ(view::compose_frame(lit, view::Overlay::none), encode_srgb8(lit.pixels));
     without.shadow_buffer = true;
     EXPECT_THROW(without.validate(scene.lights.size()), Error);
+    // The title names the kind that made the frame (bvh standing in while the kd-tree builds).
+    EXPECT_NE(view::stats_line(s, "bvh while rtt's kd-tree builds", lit, false)
+                  .find("| bvh while rtt's kd-tree builds |"),
+              std::string::npos);
+}
+
+TEST(ViewFrames, TheKdTreeBuiltOnItsOwnThreadIsTheOneBuiltInPlace) {
+    const Scene scene = make_builtin_scene("room");
+    view::BackgroundKdTree background(scene);
+    const KdTree& tree = background.wait();
+    EXPECT_EQ(background.ready(), &tree);
+    const KdTree in_place = build_kdtree(scene);
+    EXPECT_EQ(tree.nodes.size(), in_place.nodes.size());
+    EXPECT_EQ(tree.leaf_triangles, in_place.leaf_triangles);
+    EXPECT_EQ(tree.bounds.lo, in_place.bounds.lo);
+    EXPECT_EQ(tree.bounds.hi, in_place.bounds.hi);
 }
 
 #ifdef RTT_TEST_HAVE_VIEWER

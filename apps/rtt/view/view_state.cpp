@@ -94,7 +94,8 @@ std::vector<uint8_t> compose_frame(const RenderResult& frame, Overlay overlay) {
     return rgb;
 }
 
-std::string stats_line(const ViewState& state, const RenderResult& frame, bool moving) {
+std::string stats_line(const ViewState& state, std::string_view kind, const RenderResult& frame,
+                       bool moving) {
     const RenderStats& s = frame.stats;
     const auto share = [](const KindStats& k) {
         return k.trace.rays ? 100.0 * double(k.rtt.answered) / double(k.trace.rays) : 0.0;
@@ -102,9 +103,9 @@ std::string stats_line(const ViewState& state, const RenderResult& frame, bool m
     const uint64_t rays = s.primary.trace.rays + s.shadow.trace.rays + s.secondary.trace.rays;
     char line[320];
     std::snprintf(line, sizeof line,
-                  "rtt view | %s | K=%d%s | shadows %s | %.0f ms, %.1f Mrays/s | primary %.1f, "
+                  "rtt view | %.*s | K=%d%s | shadows %s | %.0f ms, %.1f Mrays/s | primary %.1f, "
                   "shadow %.1f Mrays/s per thread | RTT answered %.0f%% primary, %.0f%% shadow",
-                  state.tracer_kind().c_str(), moving ? 1 : state.aa, moving ? " (moving)" : "",
+                  int(kind.size()), kind.data(), moving ? 1 : state.aa, moving ? " (moving)" : "",
                   state.shadows ? "on" : "off", s.wall_seconds * 1e3,
                   s.wall_seconds > 0 ? double(rays) / s.wall_seconds * 1e-6 : 0.0,
                   s.primary.mrays_per_second(), s.shadow.mrays_per_second(), share(s.primary),

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "rtt/render.h"
@@ -47,8 +48,9 @@ AnswerMaps frame_maps(const ViewState& state, bool has_lights);
 /// where it traced.
 std::vector<uint8_t> compose_frame(const RenderResult& frame, Overlay overlay);
 
-/// One line of figures for the window title: tracer, K, shadows, frame time, Mrays/s per kind
-/// and the share of rays RTT answered.
-std::string stats_line(const ViewState& state, const RenderResult& frame, bool moving);
+/// One line of figures for the window title: the tracer kind that made the frame, K, shadows,
+/// frame time, Mrays/s per kind and the share of rays RTT answered.
+std::string stats_line(const ViewState& state, std::string_view kind, const RenderResult& frame,
+                       bool moving);
 
 }  // namespace rtt::view

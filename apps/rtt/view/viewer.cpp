@@ -17,6 +17,7 @@
 #include "rtt/error.h"
 #include "rtt/io.h"
 #include "rtt/kdtree.h"
+#include "view/background_kdtree.h"
 #include "view/orbit_camera.h"
 #include "view/view_state.h"
 
@@ -238,20 +239,38 @@ void run_viewer(const ViewerOptions& o) {
                        bounds.empty() ? 2.f : length(bounds.hi - bounds.lo));
     const bool lit_from_eye = cli::set_up_lights(scene, light_positions, camera.camera().position);
     validate(scene);
-    // Built when a kind that reads it is first shown (bvh and Embree need none); declared
-    // before the tracers, which refer to it.
-    std::optional<KdTree> tree;
+    // The kd-tree, for the kinds that read it (bvh and Embree need none). Interactive frames do
+    // not wait for it: the first comes from `bvh`, whatever can show the scene soonest
+    // (docs/benchmarks.md, "First image"); the kd-tree starts building after that frame (the
+    // two builds would share the cores) and takes over once built. Scripted runs (--frames)
+    // wait for it, so their frames are the chosen kind's. Declared before the tracers, which
+    // refer to it.
+    std::optional<BackgroundKdTree> tree;
     const KdTree no_tree;
     std::map<std::string, std::unique_ptr<Tracer>> tracers;  // made when first shown
-    const auto tracer_for = [&](const std::string& k) -> const Tracer& {
-        std::unique_ptr<Tracer>& t = tracers[k];
-        if (t) return *t;
-        if (tracer_uses_kdtree(k) && !tree) {
+    const auto made = [&](const std::string& k, const KdTree& t) -> const Tracer& {
+        std::unique_ptr<Tracer>& tracer = tracers[k];
+        if (!tracer) tracer = make_tracer(k, scene, t);
+        return *tracer;
+    };
+    // The tracer a frame of kind k uses now, and the name the title shows for it.
+    struct Shown {
+        const Tracer* tracer;
+        std::string name;
+        bool standing_in;  ///< bvh while k's kd-tree builds.
+    };
+    const auto tracer_for = [&](const std::string& k) -> Shown {
+        if (!tracer_uses_kdtree(k)) return {&made(k, no_tree), k, false};
+        const KdTree* built = nullptr;
+        if (o.frames > 0) {
+            if (!tree) tree.emplace(scene);
             const render_detail::ProgressBar progress(0, !o.quiet, "building the kd-tree");
-            tree.emplace(build_kdtree(scene));
+            built = &tree->wait();
+        } else if (tree) {
+            built = tree->ready();
         }
-        t = make_tracer(k, scene, tree ? *tree : no_tree);
-        return *t;
+        if (built) return {&made(k, *built), k, false};
+        return {&made("bvh", no_tree), "bvh while " + k + "'s kd-tree builds", true};
     };
 
     Window window(width, height, "rtt view");
@@ -264,8 +283,9 @@ void run_viewer(const ViewerOptions& o) {
 
     std::vector<uint8_t> shown;  // the frame on screen
     int shown_width = 0, shown_height = 0;
-    bool refined = false;  // the frame on screen has the chosen K
-    bool dirty = true;     // settings changed since it was rendered
+    bool refined = false;      // the frame on screen has the chosen K
+    bool dirty = true;         // settings changed since it was rendered
+    bool standing_in = false;  // the frame on screen is bvh's, the kd-tree still building
     int frames = 0;
     auto last_motion = Clock::now() - std::chrono::seconds(1);
     auto last_frame = Clock::now();
@@ -297,6 +317,7 @@ void run_viewer(const ViewerOptions& o) {
             }
         }
         if (moved) last_motion = now;
+        if (standing_in && tree && tree->ready()) dirty = true;  // the chosen kind takes over
         // Moving frames at K = 1 until the camera has rested for 0.2 s, then the chosen K once.
         const bool moving = o.frames == 0 && now - last_motion < std::chrono::milliseconds(200);
         int fb_width = 0, fb_height = 0;
@@ -309,15 +330,18 @@ void run_viewer(const ViewerOptions& o) {
                 scene.lights[0] = make_point_light(camera.camera().position, bounds, 1);
             const RenderOptions opt =
                 frame_options(state, camera.camera(), fb_width, fb_height, o.threads, moving);
-            const RenderResult frame = render(scene, tracer_for(state.tracer_kind()), opt,
-                                              frame_maps(state, !scene.lights.empty()));
+            const Shown shown_by = tracer_for(state.tracer_kind());
+            const RenderResult frame =
+                render(scene, *shown_by.tracer, opt, frame_maps(state, !scene.lights.empty()));
+            standing_in = shown_by.standing_in;
+            if (standing_in && !tree) tree.emplace(scene);
             shown = compose_frame(frame, state.overlay);
             shown_width = fb_width;
             shown_height = fb_height;
             refined = !moving;
             dirty = false;
             ++frames;
-            const std::string line = stats_line(state, frame, moving);
+            const std::string line = stats_line(state, shown_by.name, frame, moving);
             glfwSetWindowTitle(window.get(), line.c_str());
             if (o.frames > 0 && !o.quiet) std::printf("frame %d: %s\n", frames, line.c_str());
         }
@@ -335,9 +359,10 @@ void run_viewer(const ViewerOptions& o) {
         }
         glfwSwapBuffers(window.get());
         if (last) break;
-        // Idle with a refined frame on screen: sleep until something happens.
+        // Idle with a refined frame on screen: sleep until something happens (while the kd-tree
+        // builds, look for it every 20 ms without taking a core from it).
         if (!moving && refined && !dirty)
-            glfwWaitEventsTimeout(0.1);
+            glfwWaitEventsTimeout(standing_in ? 0.02 : 0.1);
         else
             glfwPollEvents();
     }
