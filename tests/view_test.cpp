@@ -145,7 +145,7 @@ TEST(ViewFrames, MovingFramesUseOneSampleAndShadowsOffTracesNoSegments) {
 
 TEST(ViewFrames, TheKdTreeBuiltOnItsOwnThreadIsTheOneBuiltInPlace) {
     const Scene scene = make_builtin_scene("room");
-    view::BackgroundKdTree background(scene);
+    view::BackgroundKdTree background(scene, "rtt");
     const KdTree& tree = background.wait();
     EXPECT_EQ(background.ready(), &tree);
     const KdTree in_place = build_kdtree(scene);
@@ -153,6 +153,17 @@ TEST(ViewFrames, TheKdTreeBuiltOnItsOwnThreadIsTheOneBuiltInPlace) {
     EXPECT_EQ(tree.leaf_triangles, in_place.leaf_triangles);
     EXPECT_EQ(tree.bounds.lo, in_place.bounds.lo);
     EXPECT_EQ(tree.bounds.hi, in_place.bounds.hi);
+    // The tracer made with it, of the kind asked for only, renders what one made here does.
+    EXPECT_EQ(background.take_tracer("packet16"), nullptr);
+    const std::unique_ptr<Tracer> tracer = background.take_tracer("rtt");
+    ASSERT_NE(tracer, nullptr);
+    EXPECT_EQ(tracer->name(), "rtt");
+    EXPECT_EQ(background.take_tracer("rtt"), nullptr);  // once
+    view::ViewState s;
+    s.tracers = {"rtt"};
+    const RenderOptions opt = view::frame_options(s, *scene.camera, 64, 48, 1, false);
+    EXPECT_EQ(render(scene, *tracer, opt).pixels,
+              render(scene, *make_tracer("rtt", scene, in_place), opt).pixels);
 }
 
 #ifdef RTT_TEST_HAVE_VIEWER

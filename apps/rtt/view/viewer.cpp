@@ -248,8 +248,10 @@ void run_viewer(const ViewerOptions& o) {
     std::optional<BackgroundKdTree> tree;
     const KdTree no_tree;
     std::map<std::string, std::unique_ptr<Tracer>> tracers;  // made when first shown
+    // The tracers, made when first shown; the kind the kd-tree was started for comes with it.
     const auto made = [&](const std::string& k, const KdTree& t) -> const Tracer& {
         std::unique_ptr<Tracer>& tracer = tracers[k];
+        if (!tracer && tree && &t == tree->ready()) tracer = tree->take_tracer(k);
         if (!tracer) tracer = make_tracer(k, scene, t);
         return *tracer;
     };
@@ -263,7 +265,7 @@ void run_viewer(const ViewerOptions& o) {
         if (!tracer_uses_kdtree(k)) return {&made(k, no_tree), k, false};
         const KdTree* built = nullptr;
         if (o.frames > 0) {
-            if (!tree) tree.emplace(scene);
+            if (!tree) tree.emplace(scene, k);
             const render_detail::ProgressBar progress(0, !o.quiet, "building the kd-tree");
             built = &tree->wait();
         } else if (tree) {
@@ -334,7 +336,7 @@ void run_viewer(const ViewerOptions& o) {
             const RenderResult frame =
                 render(scene, *shown_by.tracer, opt, frame_maps(state, !scene.lights.empty()));
             standing_in = shown_by.standing_in;
-            if (standing_in && !tree) tree.emplace(scene);
+            if (standing_in && !tree) tree.emplace(scene, state.tracer_kind());
             shown = compose_frame(frame, state.overlay);
             shown_width = fb_width;
             shown_height = fb_height;
