@@ -266,8 +266,11 @@ void run_viewer(const ViewerOptions& o) {
         const KdTree* built = nullptr;
         if (o.frames > 0) {
             if (!tree) tree.emplace(scene, k);
-            const render_detail::ProgressBar progress(0, !o.quiet, "building the kd-tree");
-            built = &tree->wait();
+            built = tree->ready();
+            if (!built) {
+                const render_detail::ProgressBar progress(0, !o.quiet, "building the kd-tree");
+                built = &tree->wait();
+            }
         } else if (tree) {
             built = tree->ready();
         }
