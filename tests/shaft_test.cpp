@@ -393,5 +393,34 @@ TEST(PlaneId, SameIdOnlyForExactlyCoplanarTriangles) {
     for (size_t i = 0; i < floors + 30; ++i) EXPECT_NE(ids.id[i], no_plane);
 }
 
+TEST(PlaneId, DegenerateExactlyWhenCollinear) {
+    // Points stepped along lines (collinear unless their rounding parts them) and the same
+    // triangles with one coordinate one ulp off: degenerate exactly when the exact predicate
+    // says collinear, whatever the filter on the rounded normal decides first.
+    std::mt19937 rng(31);
+    std::uniform_real_distribution<float> u(-1.f, 1.f);
+    std::vector<TriangleVerts> tris;
+    for (int i = 0; i < 4000; ++i) {
+        const float scale = i % 2 ? 1e4f : 1.f;
+        const Vec3f a{u(rng) * scale, u(rng) * scale, u(rng) * scale};
+        const Vec3f d{float(int(rng() % 7) - 3), float(int(rng() % 7) - 3),
+                      float(int(rng() % 7) - 3)};
+        TriangleVerts t{a, a + d * 0.25f, a + d * 0.5f};
+        if (i % 3 == 1) t.v2.y = std::nextafter(t.v2.y, 1e30f);
+        if (i % 3 == 2) t.v1.z = std::nextafter(t.v1.z, -1e30f);
+        tris.push_back(t);
+    }
+    const PlaneIds ids = compute_plane_ids(tris);
+    uint64_t mismatches = 0, degenerate = 0;
+    for (size_t i = 0; i < tris.size(); ++i) {
+        const bool line = collinear(tris[i].v0, tris[i].v1, tris[i].v2);
+        degenerate += line;
+        mismatches += line != (ids.id[i] == no_plane);
+    }
+    EXPECT_EQ(mismatches, 0u);
+    EXPECT_GT(degenerate, 500u);
+    EXPECT_LT(degenerate, 3500u);
+}
+
 }  // namespace
 }  // namespace rtt

@@ -1,5 +1,9 @@
 #include "geom/plane_id.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -150,30 +154,58 @@ bool collinear(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
 
 namespace {
 
-/// Cell of an approximate plane. kind 1: axis-aligned plane x[k[0]] == bits k[1] (exact,
-/// no verification needed); kind 2: quantized normalized (n, d).
-struct PlaneKey {
-    int kind;
-    int64_t k[4];
-    bool operator==(const PlaneKey&) const = default;
+/// A triangle, the cell of its approximate plane packed in two words (kind in the top bits of
+/// `hi`: 1 for an axis-aligned plane x[a] == c, exact and needing no verification; 2 for a
+/// quantized normalized (n, d)), and its index: sorted, the cells come out contiguous and each
+/// in index order. Small keys sort several times faster than the unpacked ones.
+struct KeyedTriangle {
+    uint64_t hi, lo;  // degenerate triangles: degenerate_key in both, sorted last
+    uint32_t triangle;
+    bool same_cell(const KeyedTriangle& o) const { return hi == o.hi && lo == o.lo; }
+    bool axis_aligned() const { return (hi >> 62) == 1; }
+    bool operator<(const KeyedTriangle& o) const {
+        if (hi != o.hi) return hi < o.hi;
+        if (lo != o.lo) return lo < o.lo;
+        return triangle < o.triangle;
+    }
 };
+
+constexpr uint64_t degenerate_key = ~uint64_t(0);
 
 bool same_point(const Vec3f& a, const Vec3f& b) {
     return a.x == b.x && a.y == b.y && a.z == b.z;
 }
 
-/// The cell of a non-degenerate triangle's plane; `scale` is the largest |coordinate|.
-PlaneKey plane_key(const TriangleVerts& t, double scale) {
+/// The keyed cell of triangle `i`, or false when it is degenerate (collinear or coincident
+/// vertices, decided exactly); `scale` is the largest |coordinate|.
+bool plane_key(const TriangleVerts& t, uint32_t i, double scale, KeyedTriangle& out) {
     constexpr double cells = 1048576.0;  // 2^20 cells per unit: far coarser than rounding
+    out.triangle = i;
     for (int a = 0; a < 3; ++a)
-        if (t.v0[a] == t.v1[a] && t.v1[a] == t.v2[a])
-            return {1, {a, int64_t(std::bit_cast<uint32_t>(t.v0[a] + 0.f)), 0, 0}};  // -0 -> +0
+        if (t.v0[a] == t.v1[a] && t.v1[a] == t.v2[a]) {
+            // Three equal coordinates: degenerate only if the other two axes' projection is.
+            if (collinear(t.v0, t.v1, t.v2)) return false;
+            out.hi = (uint64_t(1) << 62) | uint64_t(a);
+            out.lo = std::bit_cast<uint32_t>(t.v0[a] + 0.f);  // -0 -> +0
+            return true;
+        }
     const double e1[3] = {double(t.v1.x) - t.v0.x, double(t.v1.y) - t.v0.y,
                           double(t.v1.z) - t.v0.z};
     const double e2[3] = {double(t.v2.x) - t.v0.x, double(t.v2.y) - t.v0.y,
                           double(t.v2.z) - t.v0.z};
-    double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                   e1[0] * e2[1] - e1[1] * e2[0]};
+    const double p[3][2] = {{e1[1] * e2[2], e1[2] * e2[1]},
+                            {e1[2] * e2[0], e1[0] * e2[2]},
+                            {e1[0] * e2[1], e1[1] * e2[0]}};
+    double n[3];
+    bool spans = false;
+    for (int k = 0; k < 3; ++k) {
+        n[k] = p[k][0] - p[k][1];
+        // A normal component beyond its rounding error (below 5 eps of the products' sum,
+        // 2^-53 eps, for the differences' rounding and the products') proves the triangle
+        // spans a plane; near zero everywhere, the exact test decides.
+        spans |= std::fabs(n[k]) > 1e-14 * (std::fabs(p[k][0]) + std::fabs(p[k][1]));
+    }
+    if (!spans && collinear(t.v0, t.v1, t.v2)) return false;
     const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     const int big = std::fabs(n[0]) >= std::fabs(n[1])
                         ? (std::fabs(n[0]) >= std::fabs(n[2]) ? 0 : 2)
@@ -181,21 +213,15 @@ PlaneKey plane_key(const TriangleVerts& t, double scale) {
     const double s = (n[big] < 0.0 ? -1.0 : 1.0) / len;
     for (double& c : n) c *= s;
     const double d = n[0] * t.v0.x + n[1] * t.v0.y + n[2] * t.v0.z;
-    return {2,
-            {std::llround(n[0] * cells), std::llround(n[1] * cells), std::llround(n[2] * cells),
-             std::llround(d / scale * cells)}};
+    // |n_k| <= 1 and |d| <= sqrt(3) scale: every cell index lies within +-2^21, stored offset
+    // by 2^22 in 23 bits (clamped, so a NaN from a tiny normal's underflow keys a cell too).
+    const auto cell = [&](double x) {
+        return uint64_t(std::clamp(x * cells, -4194304.0, 4194303.0) + 4194304.0);
+    };
+    out.hi = (uint64_t(2) << 62) | (cell(n[0]) << 23) | cell(n[1]);
+    out.lo = (cell(n[2]) << 23) | cell(d / scale);
+    return true;
 }
-
-struct KeyedTriangle {
-    PlaneKey key;
-    uint32_t triangle;
-    bool operator<(const KeyedTriangle& o) const {
-        if (key.kind != o.key.kind) return key.kind < o.key.kind;
-        for (int i = 0; i < 4; ++i)
-            if (key.k[i] != o.key.k[i]) return key.k[i] < o.key.k[i];
-        return triangle < o.triangle;
-    }
-};
 
 /// Every vertex of `t` lies exactly on the plane of the (non-degenerate) triangle `r`.
 bool on_plane_of(const TriangleVerts& r, const TriangleVerts& t) {
@@ -220,12 +246,16 @@ PlaneIds compute_plane_ids(std::span<const TriangleVerts> triangles) {
 
     // Cells sorted, not hashed: a hash map of per-cell lists cost a malloc and a free per plane,
     // more than the rest of the work on curved meshes.
-    large_vector<KeyedTriangle> keyed;
-    keyed.reserve(triangles.size());
-    for (uint32_t i = 0; i < triangles.size(); ++i)
-        if (!collinear(triangles[i].v0, triangles[i].v1, triangles[i].v2))
-            keyed.push_back({plane_key(triangles[i], scale), i});
-    std::sort(keyed.begin(), keyed.end());
+    large_vector<KeyedTriangle> keyed(triangles.size());
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(triangles.size()), 4096),
+                      [&](const tbb::blocked_range<uint32_t>& r) {
+                          for (uint32_t i = r.begin(); i < r.end(); ++i)
+                              if (!plane_key(triangles[i], i, scale, keyed[i]))
+                                  keyed[i] = {degenerate_key, degenerate_key, i};
+                      });
+    // The order is total (ties by index), so the parallel sort's result is the serial one.
+    tbb::parallel_sort(keyed.begin(), keyed.end());
+    while (!keyed.empty() && keyed.back().hi == degenerate_key) keyed.pop_back();
 
     // Within a cell, in index order: each triangle joins the first of the cell's planes it lies
     // on exactly, or founds a new one (its representative: the plane's smallest index).
@@ -233,12 +263,12 @@ PlaneIds compute_plane_ids(std::span<const TriangleVerts> triangles) {
     std::vector<uint32_t> planes;  // representatives of the current cell's planes
     for (size_t g = 0; g < keyed.size();) {
         size_t end = g + 1;
-        while (end < keyed.size() && keyed[end].key == keyed[g].key) ++end;
+        while (end < keyed.size() && keyed[end].same_cell(keyed[g])) ++end;
         planes.clear();
         for (size_t j = g; j < end; ++j) {
             const uint32_t t = keyed[j].triangle;
             for (uint32_t r : planes)
-                if (keyed[g].key.kind == 1 || on_plane_of(triangles[r], triangles[t])) {
+                if (keyed[g].axis_aligned() || on_plane_of(triangles[r], triangles[t])) {
                     representative_of[t] = r;
                     break;
                 }
