@@ -1,7 +1,8 @@
-// Binned SAH over triangle centroids (16 bins per axis), a binary tree first, then collapsed to
-// W children per node by opening the largest child until W are there. Large nodes bin and
-// split in parallel; every subtree owns a fixed range of binary-node slots (BinaryBuilder::split)
-// and of references, so tasks share nothing and the tree is the same for any number of threads.
+// Binned SAH over triangle centroids (up to 16 bins per axis, fewer in small nodes), a binary tree
+// first, then collapsed to W children per node by opening the largest child until W are there.
+// Large nodes bin and split in parallel; every subtree owns a fixed range of binary-node slots
+// (BinaryBuilder::split) and of references, so tasks share nothing and the tree is the same for any
+// number of threads.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
@@ -19,7 +20,12 @@
 namespace rtt {
 namespace {
 
-constexpr int bins = 16;
+constexpr int max_bins = 16;
+/// Bins for a node of n references: fewer for small nodes, where sweeping 16 empty bins
+/// cost more than the binning (min(16, 4 + n / 20), as Embree's builders bin).
+int bins_for(uint32_t n) {
+    return int(std::min<uint32_t>(max_bins, 4 + n / 20));
+}
 // A block of four triangles costs about two node tests (docs/benchmarks.md, "Arbitrary rays").
 constexpr float traversal_cost = 1.f, intersection_cost = 2.f;
 constexpr int sah_depth = 64;
@@ -80,27 +86,40 @@ struct Extent {
     }
 };
 
-/// Where doubled centroids fall among `bins` equal bins per axis of a node's centroid bounds.
+/// Where doubled centroids fall among `n` equal bins per axis of a node's centroid bounds.
 /// NaN (0 * inf from a zero or denormal extent, inf - inf from huge coordinates) goes to bin 0,
 /// the same when binning and when partitioning.
 struct BinMap {
-    vfloat4 lo, scale;
-    explicit BinMap(const Box4& centroids)
-        : lo(centroids.lo), scale(vfloat4(float(bins)) / (centroids.hi - centroids.lo)) {}
+    int n;
+    vfloat4 lo, scale, last;
+    BinMap(const Box4& centroids, int n_)
+        : n(n_),
+          lo(centroids.lo),
+          scale(vfloat4(float(n_)) / (centroids.hi - centroids.lo)),
+          last(float(n_ - 1)) {}
     RTT_FORCEINLINE vint4 operator()(vfloat4 c) const {
         // maxps returns its second operand for NaN: max(NaN, 0) = 0.
-        return truncate_to_int(min(max((c - lo) * scale, vfloat4(0.f)), vfloat4(float(bins - 1))));
+        return truncate_to_int(min(max((c - lo) * scale, vfloat4(0.f)), last));
     }
 };
 
-/// Per axis, the bounds and counts of the references whose centroid falls in each bin.
+/// Per axis, the bounds and counts of the references whose centroid falls in each of the
+/// first n bins (only those are set: a small node's bins are cleared for each node).
 struct Bins {
-    std::array<std::array<Box4, bins>, 3> box{};
-    std::array<std::array<uint32_t, bins>, 3> count{};
+    int n;
+    std::array<std::array<Box4, max_bins>, 3> box;
+    std::array<std::array<uint32_t, max_bins>, 3> count;
 
+    explicit Bins(int n_ = max_bins) : n(n_) {
+        for (size_t a = 0; a < 3; ++a)
+            for (size_t b = 0; b < size_t(n); ++b) {
+                box[a][b] = Box4{};
+                count[a][b] = 0;
+            }
+    }
     void merge(const Bins& o) {
         for (size_t a = 0; a < 3; ++a)
-            for (size_t b = 0; b < bins; ++b) {
+            for (size_t b = 0; b < size_t(n); ++b) {
                 box[a][b].extend(o.box[a][b]);
                 count[a][b] += o.count[a][b];
             }
@@ -164,7 +183,7 @@ private:
         return reduce_range<Bins>(
             first, end,
             [&](uint32_t from, uint32_t to) {
-                Bins out;
+                Bins out(map.n);
                 alignas(16) int32_t b[4];
                 for (uint32_t i = from; i < to; ++i) {
                     const PrimRef& r = refs_[i];
@@ -207,7 +226,7 @@ private:
         if (n <= 2) return make_leaf();
         int best_axis = -1, best_bin = 0;
         float best_cost = intersection_cost * blocks_of(n);
-        const BinMap map(ext.centroids);
+        const BinMap map(ext.centroids, bins_for(n));
         // Past sah_depth only halves: the tree (and the traversal's stack) stays shallow
         // whatever the input (bvh_max_depth).
         if (depth < sah_depth) {
@@ -218,11 +237,11 @@ private:
                 const auto& bb = all.box[size_t(a)];
                 const auto& bc = all.count[size_t(a)];
                 // Sweep: areas and counts to the right of each boundary, then to the left.
-                std::array<float, bins> right_area{};
-                std::array<uint32_t, bins> right_count{};
+                std::array<float, max_bins> right_area{};
+                std::array<uint32_t, max_bins> right_count{};
                 Box4 r;
                 uint32_t rc = 0;
-                for (int b = bins - 1; b > 0; --b) {
+                for (int b = map.n - 1; b > 0; --b) {
                     r.extend(bb[size_t(b)]);
                     rc += bc[size_t(b)];
                     right_area[size_t(b)] = r.empty() ? 0.f : r.half_area();
@@ -230,7 +249,7 @@ private:
                 }
                 Box4 l;
                 uint32_t lc = 0;
-                for (int b = 1; b < bins; ++b) {
+                for (int b = 1; b < map.n; ++b) {
                     l.extend(bb[size_t(b - 1)]);
                     lc += bc[size_t(b - 1)];
                     if (lc == 0 || right_count[size_t(b)] == 0) continue;
