@@ -34,6 +34,7 @@ struct BoxRay {
     bool flat[3];  ///< dir[a] == 0: a face distance is NaN when the ray lies in the face's plane.
     bool free[3];  ///< |1 / dir[a]| beyond 2^40: the axis is left unbounded (never culls).
     bool plain;    ///< No axis flat or free.
+    bool nonneg_tmin;  ///< tmin >= 0 (widen_interval).
 
     BoxRay(const Ray& ray, const Bbox3f& bounds) {
         // The three axes at once in lanes 0-2 (lane 3 a copy of z): one division, no branches.
@@ -48,6 +49,7 @@ struct BoxRay {
         t_margin = vf(2.f * kd_margin * std::min(scale + org_t * 0x1p-6f, FLT_MAX));
         const uint32_t flat_bits = movemask(zero), free_bits = movemask(andnot(huge, zero));
         plain = ((flat_bits | free_bits) & 7u) == 0;
+        nonneg_tmin = ray.tmin >= 0.f;
         for (int a = 0; a < 3; ++a) {
             org[a] = vf(o[a]);
             inv[a] = vf(i[a]);
@@ -93,7 +95,10 @@ struct BoxRay {
         // Widened by twice the margin of trace_ray's split distances: (1 -+ 2 kd_margin) scales
         // |t| down or up whatever its sign; infinities stay infinite.
         vf far;
-        widen_interval(tn, tf, 2.f * kd_margin, t_margin, near, far);
+        if (nonneg_tmin)
+            widen_interval<true>(tn, tf, 2.f * kd_margin, t_margin, near, far);
+        else
+            widen_interval(tn, tf, 2.f * kd_margin, t_margin, near, far);
         const uint32_t used = (1u << n.count) - 1u;
         return movemask(max(near, vf(tmin)) <= min(far, vf(tmax))) & used;
     }

@@ -19,10 +19,16 @@ inline constexpr int bvh_width = simd_max_width >= 8 ? 8 : 4;
 /// A box's slab interval [enter, leave] widened by `relative` * |t| + `t_margin` on each side
 /// (docs/design.md, "The BVH for arbitrary rays"): the nodes' tests, single ray and packet.
 /// Infinities stay infinite.
-template <typename V>
+/// NonNegTmin: the caller compares `near` with a tmin >= 0 only (max(near, tmin)), so a
+/// negative entry distance, however widened, loses to tmin: only the shrink a non-negative one
+/// needs is applied, one operation instead of three, and the comparison is unchanged.
+template <bool NonNegTmin = false, typename V>
 RTT_FORCEINLINE void widen_interval(V enter, V leave, float relative, V t_margin, V& near, V& far) {
     const V shrink(1.f - relative), grow(1.f + relative);
-    near = min(mul_sub(enter, shrink, t_margin), mul_sub(enter, grow, t_margin));
+    if constexpr (NonNegTmin)
+        near = mul_sub(enter, shrink, t_margin);
+    else
+        near = min(mul_sub(enter, shrink, t_margin), mul_sub(enter, grow, t_margin));
     far = max(mul_add(leave, grow, t_margin), mul_add(leave, shrink, t_margin));
 }
 

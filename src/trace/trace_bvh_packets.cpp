@@ -40,8 +40,9 @@ struct PacketRays {
     /// Every traced lane starts at the same point (bit for bit: a camera, a light): a
     /// triangle's vertices relative to it are then one subtraction for all lanes.
     bool common_origin = false;
-    vb active;            ///< Lanes traced here.
-    uint32_t single = 0;  ///< Lanes left to the single-ray kernel.
+    vb active;                 ///< Lanes traced here.
+    bool nonneg_tmin = false;  ///< Every traced lane's tmin >= 0 (widen_interval).
+    uint32_t single = 0;       ///< Lanes left to the single-ray kernel.
 
     /// The lanes `used` of `packet`; the others must hold finite rays (a copy of a used one).
     PacketRays(const RayPacket<K>& packet, uint32_t used, const Bbox3f& bounds) {
@@ -63,6 +64,7 @@ struct PacketRays {
         }
         single = movemask(odd) & used;
         restrict_to(used & ~single);
+        nonneg_tmin = (movemask(tmin >= vf(0.f)) & used) == used;
         if (const uint32_t traced = used & ~single) {
             const int l = std::countr_zero(traced);
             const auto same = [&](vf v) {
@@ -104,7 +106,10 @@ struct PacketRays {
         const vf enter_t = max(max(face(enter[0], 0), face(enter[1], 1)), face(enter[2], 2));
         const vf leave_t = min(min(face(leave[0], 0), face(leave[1], 1)), face(leave[2], 2));
         vf far;
-        widen_interval(enter_t, leave_t, 2.f * kd_margin, t_margin, near, far);
+        if (nonneg_tmin)
+            widen_interval<true>(enter_t, leave_t, 2.f * kd_margin, t_margin, near, far);
+        else
+            widen_interval(enter_t, leave_t, 2.f * kd_margin, t_margin, near, far);
         return lanes & (max(near, tmin) <= min(far, tmax_now));
     }
 };
@@ -119,7 +124,9 @@ struct PacketFrustum {
     float o_near[3], o_far[3];  ///< The origins giving the smallest entry, the largest exit.
     float inv_lo[3], inv_hi[3];
     uint32_t enter[3], leave[3];  ///< PacketRays' face offsets.
+    float inv_near[3];  ///< Of inv_lo and inv_hi, the one giving the smaller entry in front.
     float tmin, t_margin;
+    bool nonneg_tmin;
 
     explicit PacketFrustum(const PacketRays& p) {
         const vf inf(pos_inf), ninf(neg_inf);
@@ -138,23 +145,36 @@ struct PacketFrustum {
             enter[a] = p.enter[a];
             leave[a] = p.leave[a];
         }
+        for (int a = 0; a < 3; ++a) inv_near[a] = enter[a] < leave[a] ? inv_lo[a] : inv_hi[a];
         tmin = lowest(p.tmin);
+        nonneg_tmin = p.nonneg_tmin;
         t_margin = 2.f * highest(p.t_margin);
     }
 
     /// Children whose box some lane may meet in [tmin, tfar]; the frustum's widened entry
     /// distances (a lower bound of every lane's) in `near`.
     RTT_FORCEINLINE uint32_t test(const BvhNode<W>& n, float tfar, vw& near) const {
+        return nonneg_tmin ? test_with<true>(n, tfar, near) : test_with<false>(n, tfar, near);
+    }
+
+private:
+    template <bool NonNegTmin>
+    RTT_FORCEINLINE uint32_t test_with(const BvhNode<W>& n, float tfar, vw& near) const {
         const char* base = reinterpret_cast<const char*>(&n.lo[0][0]);
         vw tn(neg_inf), tf(pos_inf);
         for (int a = 0; a < 3; ++a) {
             const vw e = vw::load(reinterpret_cast<const float*>(base + enter[a])) - vw(o_near[a]);
             const vw l = vw::load(reinterpret_cast<const float*>(base + leave[a])) - vw(o_far[a]);
-            tn = max(tn, min(e * vw(inv_lo[a]), e * vw(inv_hi[a])));
+            // With tmin >= 0 a negative entry distance loses to tmin (widen_interval): the
+            // inverse giving the smaller entry of a box in front is enough.
+            if constexpr (NonNegTmin)
+                tn = max(tn, e * vw(inv_near[a]));
+            else
+                tn = max(tn, min(e * vw(inv_lo[a]), e * vw(inv_hi[a])));
             tf = min(tf, max(l * vw(inv_lo[a]), l * vw(inv_hi[a])));
         }
         vw far;
-        widen_interval(tn, tf, 4.f * kd_margin, vw(t_margin), near, far);
+        widen_interval<NonNegTmin>(tn, tf, 4.f * kd_margin, vw(t_margin), near, far);
         const uint32_t used = (1u << n.count) - 1u;
         return movemask(max(near, vw(tmin)) <= min(far, vw(tfar))) & used;
     }
@@ -205,19 +225,28 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays& rays, PacketHit<K>& b
             bool hit_any = false;
             for (uint32_t k = first; k < first + count && any(lanes); ++k) {
                 const BvhTriangles4& q = bvh.blocks[k];
+                // The block's vertices relative to the common origin, permuted: the scalar
+                // test's subtractions, for the four triangles at once.
+                vfloat4 rel4[3][3];
+                if (relative) {
+                    const float(*v[3])[4] = {q.v0, q.v1, q.v2};
+                    const int axes[3] = {kx, ky, kz};
+                    for (int i = 0; i < 3; ++i)
+                        for (int j = 0; j < 3; ++j)
+                            rel4[i][j] = vfloat4::load(v[i][axes[j]]) - vfloat4(po[j]);
+                }
                 for (int l = 0; l < 4; ++l) {
                     const uint32_t id = q.id[l];
                     if (id == invalid_triangle) continue;
                     vf t(0.f);
                     vb hit;
                     if (relative) {
-                        // the scalar test's a = v0 - org, b = v1 - org, c = v2 - org, permuted
-                        const RelativeTriangle<K> rel{
-                            vf(q.v0[kx][l] - po[0]), vf(q.v0[ky][l] - po[1]),
-                            vf(q.v0[kz][l] - po[2]), vf(q.v1[kx][l] - po[0]),
-                            vf(q.v1[ky][l] - po[1]), vf(q.v1[kz][l] - po[2]),
-                            vf(q.v2[kx][l] - po[0]), vf(q.v2[ky][l] - po[1]),
-                            vf(q.v2[kz][l] - po[2])};
+                        const auto at = [&](int i, int j) {
+                            return broadcast_lane<K>(rel4[i][j], l);
+                        };
+                        const RelativeTriangle<K> rel{at(0, 0), at(0, 1), at(0, 2),
+                                                      at(1, 0), at(1, 1), at(1, 2),
+                                                      at(2, 0), at(2, 1), at(2, 2)};
                         hit = intersect_watertight_relative<K>(wp, lanes, rel, t);
                     } else {
                         const TriangleVerts tri{{q.v0[0][l], q.v0[1][l], q.v0[2][l]},
