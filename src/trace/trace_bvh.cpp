@@ -23,7 +23,8 @@ namespace {
 template <int W>
 struct BoxRay {
     using vf = vfloat<W>;
-    vf org[3], inv[3], org_inv[3];
+    vf inv[3], org_inv[3];
+    vf org[3];  ///< Only for rays that are not plain (below).
     /// The widening of a box's interval beyond its |t| part: 2 kd_margin times the scene's t
     /// scale, grown to cover the rounding of face * inv - org * inv (docs/design.md, "The BVH
     /// for arbitrary rays").
@@ -31,6 +32,7 @@ struct BoxRay {
     /// Byte offsets in a node of the faces a ray enters and leaves by on each axis (hi when
     /// dir < 0): fixed per ray, so a node's test picks no faces.
     uint32_t enter[3], leave[3];
+    // Set only when the ray is not plain (an axis flat or free), for the test's slow path:
     bool flat[3];  ///< dir[a] == 0: a face distance is NaN when the ray lies in the face's plane.
     bool free[3];  ///< |1 / dir[a]| beyond 2^40: the axis is left unbounded (never culls).
     bool plain;    ///< No axis flat or free.
@@ -48,18 +50,24 @@ struct BoxRay {
         const float org_t = reduce_max(select(zero | huge, vfloat4(0.f), abs(oi)))[0];
         t_margin = vf(2.f * kd_margin * std::min(scale + org_t * 0x1p-6f, FLT_MAX));
         const uint32_t flat_bits = movemask(zero), free_bits = movemask(andnot(huge, zero));
+        const uint32_t negative = movemask(d < vfloat4(0.f));
         plain = ((flat_bits | free_bits) & 7u) == 0;
         nonneg_tmin = ray.tmin >= 0.f;
         for (int a = 0; a < 3; ++a) {
-            org[a] = vf(o[a]);
             inv[a] = vf(i[a]);
             org_inv[a] = vf(oi[a]);
             const uint32_t lo = uint32_t(offsetof(BvhNode<W>, lo) + sizeof(float) * W * a);
             const uint32_t hi = uint32_t(offsetof(BvhNode<W>, hi) + sizeof(float) * W * a);
-            enter[a] = ray.dir[a] < 0.f ? hi : lo;
-            leave[a] = ray.dir[a] < 0.f ? lo : hi;
-            flat[a] = (flat_bits >> a) & 1u;
-            free[a] = (free_bits >> a) & 1u;
+            const bool down = (negative >> a) & 1u;
+            enter[a] = down ? hi : lo;
+            leave[a] = down ? lo : hi;
+        }
+        if (!plain) [[unlikely]] {
+            for (int a = 0; a < 3; ++a) {
+                org[a] = vf(o[a]);
+                flat[a] = (flat_bits >> a) & 1u;
+                free[a] = (free_bits >> a) & 1u;
+            }
         }
     }
 
@@ -71,12 +79,12 @@ struct BoxRay {
             // dir[a] != 0: the entry face gives the smaller distance (a padding slot's +-inf
             // box gives tn = +inf, and the slot is masked anyway).
             const char* base = reinterpret_cast<const char*>(&n);
-            for (int a = 0; a < 3; ++a) {
-                const vf e = vf::load(reinterpret_cast<const float*>(base + enter[a]));
-                const vf l = vf::load(reinterpret_cast<const float*>(base + leave[a]));
-                tn = max(tn, mul_sub(e, inv[a], org_inv[a]));
-                tf = min(tf, mul_sub(l, inv[a], org_inv[a]));
-            }
+            const auto face = [&](uint32_t offset, int a) {
+                return mul_sub(vf::load(reinterpret_cast<const float*>(base + offset)), inv[a],
+                               org_inv[a]);
+            };
+            tn = max(max(face(enter[0], 0), face(enter[1], 1)), face(enter[2], 2));
+            tf = min(min(face(leave[0], 0), face(leave[1], 1)), face(leave[2], 2));
         } else {
             for (int a = 0; a < 3; ++a) {
                 if (free[a]) continue;
