@@ -156,8 +156,9 @@ namespace {
 
 /// A triangle, the cell of its approximate plane packed in two words (kind in the top bits of
 /// `hi`: 1 for an axis-aligned plane x[a] == c, exact and needing no verification; 2 for a
-/// quantized normalized (n, d)), and its index: sorted, the cells come out contiguous and each
-/// in index order. Small keys sort several times faster than the unpacked ones.
+/// quantized normalized (n, d); 3 for a cell of one triangle), and its index: sorted, the cells
+/// come out contiguous and each in index order. Small keys sort several times faster than the
+/// unpacked ones.
 struct KeyedTriangle {
     uint64_t hi, lo;  // degenerate triangles: degenerate_key in both, sorted last
     uint32_t triangle;
@@ -200,13 +201,19 @@ bool plane_key(const TriangleVerts& t, uint32_t i, double scale, KeyedTriangle& 
     bool spans = false;
     for (int k = 0; k < 3; ++k) {
         n[k] = p[k][0] - p[k][1];
-        // A normal component beyond its rounding error (below 5 eps of the products' sum,
-        // 2^-53 eps, for the differences' rounding and the products') proves the triangle
-        // spans a plane; near zero everywhere, the exact test decides.
+        // A rounded component errs by less than 5 eps (eps = 2^-53) times the sum of its two
+        // products' magnitudes (the differences' rounding and the products'): one beyond 1e-14
+        // of that sum proves the triangle spans a plane. Near zero on every axis, the exact
+        // test decides.
         spans |= std::fabs(n[k]) > 1e-14 * (std::fabs(p[k][0]) + std::fabs(p[k][1]));
     }
     if (!spans && collinear(t.v0, t.v1, t.v2)) return false;
     const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(len > 0.0)) {  // spans a plane, but its rounded normal vanished: a cell of its own
+        out.hi = (uint64_t(3) << 62) | i;
+        out.lo = 0;
+        return true;
+    }
     const int big = std::fabs(n[0]) >= std::fabs(n[1])
                         ? (std::fabs(n[0]) >= std::fabs(n[2]) ? 0 : 2)
                         : (std::fabs(n[1]) >= std::fabs(n[2]) ? 1 : 2);
@@ -214,7 +221,7 @@ bool plane_key(const TriangleVerts& t, uint32_t i, double scale, KeyedTriangle& 
     for (double& c : n) c *= s;
     const double d = n[0] * t.v0.x + n[1] * t.v0.y + n[2] * t.v0.z;
     // |n_k| <= 1 and |d| <= sqrt(3) scale: every cell index lies within +-2^21, stored offset
-    // by 2^22 in 23 bits (clamped, so a NaN from a tiny normal's underflow keys a cell too).
+    // by 2^22 in 23 bits (clamped against rounding at the ends).
     const auto cell = [&](double x) {
         return uint64_t(std::clamp(x * cells, -4194304.0, 4194303.0) + 4194304.0);
     };
