@@ -16,6 +16,20 @@
 #error "rtt's kernels need at least SSE4.2 (-march=x86-64-v2)"
 #endif
 
+// GCC 12's AVX-512 and permute intrinsics (min, max, sqrt, reductions, permutexvar...) pass
+// _mm512_undefined_*() as the merge source, which trips a false -Wuninitialized where they are
+// inlined (GCC PR 105593, fixed in GCC 13). The wrappers that use them sit between these two;
+// Clang neither warns nor knows the name -Wmaybe-uninitialized.
+#if defined(__GNUC__) && !defined(__clang__)
+#define RTT_INTRINSICS_BEGIN                                                             \
+    _Pragma("GCC diagnostic push") _Pragma("GCC diagnostic ignored \"-Wuninitialized\"") \
+        _Pragma("GCC diagnostic ignored \"-Wmaybe-uninitialized\"")
+#define RTT_INTRINSICS_END _Pragma("GCC diagnostic pop")
+#else
+#define RTT_INTRINSICS_BEGIN
+#define RTT_INTRINSICS_END
+#endif
+
 namespace rtt {
 inline namespace RTT_ISA_NS {
 

@@ -29,10 +29,7 @@ inline constexpr int simd_max_width = 8;
 inline constexpr int simd_max_width = 4;
 #endif
 
-// GCC 12's permute intrinsic passes an undefined merge source (see vfloat16.h).
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wuninitialized"
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+RTT_INTRINSICS_BEGIN
 /// Lane l (0-3) of x in every lane of a K-lane vector: one permute where the ISA has one.
 template <int K>
 RTT_FORCEINLINE vfloat<K> broadcast_lane(vfloat4 x, int l) {
@@ -46,7 +43,7 @@ RTT_FORCEINLINE vfloat<K> broadcast_lane(vfloat4 x, int l) {
 #endif
     return vfloat<K>(x[l]);
 }
-#pragma GCC diagnostic pop
+RTT_INTRINSICS_END
 
 }  // namespace RTT_ISA_NS
 }  // namespace rtt

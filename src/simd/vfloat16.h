@@ -7,12 +7,8 @@
 #include "simd/vfloat4.h"
 #include "simd/vint16.h"
 
-// GCC 12's AVX-512 intrinsics (min, max, sqrt, reductions...) pass _mm512_undefined_*() as the
-// merge source, which trips a false -Wuninitialized where they are inlined (GCC PR 105593,
-// fixed in GCC 13).
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wuninitialized"
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+// GCC 12's intrinsics and false warnings: simd/isa.h.
+RTT_INTRINSICS_BEGIN
 
 namespace rtt {
 inline namespace RTT_ISA_NS {
@@ -226,4 +222,4 @@ RTT_FORCEINLINE void load_record_rows3(const float* p, std::ptrdiff_t stride, vf
 }  // namespace RTT_ISA_NS
 }  // namespace rtt
 
-#pragma GCC diagnostic pop
+RTT_INTRINSICS_END

@@ -6,12 +6,8 @@
 #include "simd/isa.h"
 #include "simd/vbool16.h"
 
-// GCC 12's AVX-512 intrinsics (min, max, sqrt, reductions...) pass _mm512_undefined_*() as the
-// merge source, which trips a false -Wuninitialized where they are inlined (GCC PR 105593,
-// fixed in GCC 13).
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wuninitialized"
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+// GCC 12's intrinsics and false warnings: simd/isa.h.
+RTT_INTRINSICS_BEGIN
 
 namespace rtt {
 inline namespace RTT_ISA_NS {
@@ -100,4 +96,4 @@ RTT_FORCEINLINE vint16 select(vbool16 m, vint16 t, vint16 f) {
 }  // namespace RTT_ISA_NS
 }  // namespace rtt
 
-#pragma GCC diagnostic pop
+RTT_INTRINSICS_END
