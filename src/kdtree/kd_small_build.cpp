@@ -12,18 +12,19 @@
 
 namespace rtt {
 
-// The split search of each ISA's kernels (kd_small_split.cpp, compiled once per ISA).
-#define RTT_DECLARE_SMALL_SPLIT(isa)                                                \
-    namespace isa {                                                                 \
-    kd::SplitChoice kd_find_small_split(std::span<const kd::TriBox>, const Bbox3f&, \
-                                        const KdBuildConfig&);                      \
+// The split search of each ISA's kernels (kd_small_split.cpp, compiled once per ISA). This
+// file's own ISA namespace is inline (simd/isa.h), and is reopened as one.
+#define RTT_DECLARE_SMALL_SPLIT(inline_or_not, isa)                                     \
+    inline_or_not namespace isa {                                                       \
+        kd::SplitChoice kd_find_small_split(std::span<const kd::TriBox>, const Bbox3f&, \
+                                            const KdBuildConfig&);                      \
     }
-RTT_DECLARE_SMALL_SPLIT(RTT_ISA_NS)
+RTT_DECLARE_SMALL_SPLIT(inline, RTT_ISA_NS)
 #ifdef RTT_KERNELS_AVX2
-RTT_DECLARE_SMALL_SPLIT(isa_avx2)
+RTT_DECLARE_SMALL_SPLIT(, isa_avx2)
 #endif
 #ifdef RTT_KERNELS_AVX512
-RTT_DECLARE_SMALL_SPLIT(isa_avx512)
+RTT_DECLARE_SMALL_SPLIT(, isa_avx512)
 #endif
 #undef RTT_DECLARE_SMALL_SPLIT
 
