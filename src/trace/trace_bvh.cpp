@@ -56,12 +56,8 @@ struct BoxRay {
         for (int a = 0; a < 3; ++a) {
             inv[a] = vf(i[a]);
             org_inv[a] = vf(oi[a]);
-            const uint32_t lo = uint32_t(offsetof(BvhNode<W>, lo) + sizeof(float) * W * a);
-            const uint32_t hi = uint32_t(offsetof(BvhNode<W>, hi) + sizeof(float) * W * a);
-            const bool down = (negative >> a) & 1u;
-            enter[a] = down ? hi : lo;
-            leave[a] = down ? lo : hi;
         }
+        box_faces<W>(negative, enter, leave);
         if (!plain) [[unlikely]] {
             for (int a = 0; a < 3; ++a) {
                 org[a] = vf(o[a]);

@@ -2,6 +2,7 @@
 // and callers holding a Bvh.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 
@@ -15,6 +16,19 @@ inline namespace RTT_ISA_NS {
 
 /// Children per node of this ISA's kernel: 8 where nodes are tested with 8-lane vectors.
 inline constexpr int bvh_width = simd_max_width >= 8 ? 8 : 4;
+
+/// Byte offsets in a BvhNode<W> of the faces rays enter and leave by on each axis: lo then hi,
+/// or hi then lo where the rays' direction is negative (bit a of `negative`).
+template <int W>
+RTT_FORCEINLINE void box_faces(uint32_t negative, uint32_t (&enter)[3], uint32_t (&leave)[3]) {
+    for (int a = 0; a < 3; ++a) {
+        const uint32_t lo = uint32_t(offsetof(BvhNode<W>, lo) + sizeof(float) * W * size_t(a));
+        const uint32_t hi = uint32_t(offsetof(BvhNode<W>, hi) + sizeof(float) * W * size_t(a));
+        const bool down = (negative >> a) & 1u;
+        enter[a] = down ? hi : lo;
+        leave[a] = down ? lo : hi;
+    }
+}
 
 /// A box's slab interval [enter, leave] widened by `relative` * |t| + `t_margin` on each side
 /// (docs/design.md, "The BVH for arbitrary rays"): the nodes' tests, single ray and packet.

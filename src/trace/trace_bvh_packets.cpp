@@ -81,16 +81,16 @@ struct PacketRays {
     void restrict_to(uint32_t lanes) {
         active = vb::from_bits(lanes);
         same_signs = true;
-        using Node = BvhNode<bvh_width>;
         const vf* dv[3] = {&dir.x, &dir.y, &dir.z};
+        uint32_t negative = 0;
         for (int a = 0; a < 3; ++a) {
             const uint32_t neg = signbits(*dv[a]) & lanes;
             same_signs &= neg == 0 || neg == lanes;
-            const uint32_t lo = uint32_t(sizeof(float) * bvh_width * size_t(a));
-            const uint32_t hi = lo + uint32_t(offsetof(Node, hi) - offsetof(Node, lo));
-            enter[a] = neg ? hi : lo;
-            leave[a] = neg ? lo : hi;
+            negative |= neg ? 1u << a : 0u;
         }
+        // Offsets from a child's lo.x: lo is the node's first member.
+        static_assert(offsetof(BvhNode<bvh_width>, lo) == 0);
+        box_faces<bvh_width>(negative, enter, leave);
     }
 
     /// Lanes of `lanes` whose widened interval in child `c`'s box meets [tmin, tmax]; their
