@@ -26,6 +26,9 @@ namespace {
 constexpr int K = simd_max_width;
 using vf = vfloat<K>;
 using vb = vbool<K>;
+/// Packets traced as one traversal where their lanes share direction signs: two (8x4 samples)
+/// beat one and four (docs/benchmarks.md, "Arbitrary rays").
+constexpr int group_size = 2;
 
 /// Up to K rays as vectors, and the per-lane constants of the node test.
 struct PacketRays {
@@ -44,6 +47,7 @@ struct PacketRays {
     bool nonneg_tmin = false;  ///< Every traced lane's tmin >= 0 (widen_interval).
     uint32_t single = 0;       ///< Lanes left to the single-ray kernel.
 
+    PacketRays() = default;
     /// The lanes `used` of `packet`; the others must hold finite rays (a copy of a used one).
     PacketRays(const RayPacket<K>& packet, uint32_t used, const Bbox3f& bounds) {
         org = {vf::load(packet.org[0]), vf::load(packet.org[1]), vf::load(packet.org[2])};
@@ -128,27 +132,42 @@ struct PacketFrustum {
     float tmin, t_margin;
     bool nonneg_tmin;
 
-    explicit PacketFrustum(const PacketRays& p) {
+    /// Over the active lanes of `m` packets that share direction signs (their face offsets).
+    PacketFrustum(const PacketRays* const* parts, int m) {
         const vf inf(pos_inf), ninf(neg_inf);
-        const auto lowest = [&](vf v) { return reduce_min(select(p.active, v, inf))[0]; };
-        const auto highest = [&](vf v) { return reduce_max(select(p.active, v, ninf))[0]; };
-        const vf* ov[3] = {&p.org.x, &p.org.y, &p.org.z};
+        const auto lowest = [&](auto field) {
+            vf v = select(parts[0]->active, field(*parts[0]), inf);
+            for (int i = 1; i < m; ++i) v = min(v, select(parts[i]->active, field(*parts[i]), inf));
+            return reduce_min(v)[0];
+        };
+        const auto highest = [&](auto field) {
+            vf v = select(parts[0]->active, field(*parts[0]), ninf);
+            for (int i = 1; i < m; ++i)
+                v = max(v, select(parts[i]->active, field(*parts[i]), ninf));
+            return reduce_max(v)[0];
+        };
+        const PacketRays& p = *parts[0];
         for (int a = 0; a < 3; ++a) {
             // dir > 0: (face - org) * inv is least at the largest origin, greatest at the
             // smallest; dir < 0 the other way round. Each bound is then the lesser (greater) of
             // the two products with the inverse directions' extremes.
             const bool positive = p.enter[a] < p.leave[a];
-            o_near[a] = positive ? highest(*ov[a]) : lowest(*ov[a]);
-            o_far[a] = positive ? lowest(*ov[a]) : highest(*ov[a]);
-            inv_lo[a] = lowest(p.inv[a]);
-            inv_hi[a] = highest(p.inv[a]);
+            const auto org = [a](const PacketRays& r) {
+                return a == 0 ? r.org.x : a == 1 ? r.org.y : r.org.z;
+            };
+            const auto inv = [a](const PacketRays& r) { return r.inv[a]; };
+            o_near[a] = positive ? highest(org) : lowest(org);
+            o_far[a] = positive ? lowest(org) : highest(org);
+            inv_lo[a] = lowest(inv);
+            inv_hi[a] = highest(inv);
             enter[a] = p.enter[a];
             leave[a] = p.leave[a];
         }
         for (int a = 0; a < 3; ++a) inv_near[a] = enter[a] < leave[a] ? inv_lo[a] : inv_hi[a];
-        tmin = lowest(p.tmin);
-        nonneg_tmin = p.nonneg_tmin;
-        t_margin = 2.f * highest(p.t_margin);
+        tmin = lowest([](const PacketRays& r) { return r.tmin; });
+        nonneg_tmin = true;
+        for (int i = 0; i < m; ++i) nonneg_tmin &= parts[i]->nonneg_tmin;
+        t_margin = 2.f * highest([](const PacketRays& r) { return r.t_margin; });
     }
 
     /// Children whose box some lane may meet in [tmin, tfar]; the frustum's widened entry
@@ -191,24 +210,47 @@ RTT_FORCEINLINE void prefetch_child(const Bvh<W>& bvh, uint32_t child) {
     for (size_t off = 0; off < size; off += 64) __builtin_prefetch(p + off);
 }
 
-/// traverse() for packets whose lanes share direction signs: each node's children are culled
-/// by one W-lane test of the packet's frustum, and only the survivors are tested lane by lane.
-/// Subtrees are ordered by the frustum's entry distance, one number for all lanes.
-template <int W, bool AnyHit>
-void traverse_frustum(const Bvh<W>& bvh, const PacketRays& rays, PacketHit<K>& best, vb& blocked) {
+/// traverse() for M packets whose lanes share direction signs, as one: each node's children
+/// are culled by one W-lane test of the packets' common frustum, and a survivor is entered when
+/// some packet's lanes pass it. Subtrees are ordered by the frustum's entry distance, one
+/// number for all lanes. A leaf is tested by every live lane that may still reach it.
+template <int W, bool AnyHit, int M>
+void traverse_frustum(const Bvh<W>& bvh, const PacketRays* const* rays, PacketHit<K>* best,
+                      vb* blocked) {
     using vw = vfloat<W>;
-    const PacketFrustum<W> frustum(rays);
-    WatertightPacket<K> wp(rays.org, rays.dir, rays.tmin, rays.tmax, rays.active);
-    vb alive = rays.active;
+    const PacketFrustum<W> frustum(rays, M);
+    /// One packet's watertight constants, live lanes and common origin.
+    struct Part {
+        WatertightPacket<K> wp;
+        vb alive;
+        // A common origin, permuted as the watertight test permutes (wp.uniform): the origin's
+        // coordinates to subtract from each vertex once for all lanes.
+        bool relative;
+        float po[3];
+        int axes[3];
+    };
+    Part part[M];
+    for (int m = 0; m < M; ++m) {
+        const PacketRays& r = *rays[m];
+        Part& p = part[m];
+        p.wp = WatertightPacket<K>(r.org, r.dir, r.tmin, r.tmax, r.active);
+        p.alive = r.active;
+        p.relative = r.common_origin && p.wp.uniform;
+        const int lane = std::countr_zero(movemask(r.active));
+        p.po[0] = p.wp.porg.x[lane];
+        p.po[1] = p.wp.porg.y[lane];
+        p.po[2] = p.wp.porg.z[lane];
+        p.axes[0] = p.wp.ukx;
+        p.axes[1] = p.wp.uky;
+        p.axes[2] = p.wp.ukz;
+    }
     const vf ninf(neg_inf);
-    // A common origin, permuted as the watertight test permutes (wp.uniform): the origin's
-    // coordinates to subtract from each vertex once for all lanes.
-    const bool relative = rays.common_origin && wp.uniform;
-    const int first_lane = std::countr_zero(movemask(rays.active));
-    const float po[3] = {wp.porg.x[first_lane], wp.porg.y[first_lane], wp.porg.z[first_lane]};
-    const int kx = wp.ukx, ky = wp.uky, kz = wp.ukz;
     // The farthest any live lane may still reach: what a subtree must start before.
-    const auto reach = [&] { return reduce_max(select(alive, wp.tmax, ninf))[0]; };
+    const auto reach = [&] {
+        vf r = select(part[0].alive, part[0].wp.tmax, ninf);
+        for (int m = 1; m < M; ++m) r = max(r, select(part[m].alive, part[m].wp.tmax, ninf));
+        return reduce_max(r)[0];
+    };
     float tfar = reach();
     struct Entry {
         uint32_t child;
@@ -221,52 +263,59 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays& rays, PacketHit<K>& b
     for (;;) {
         if (cur & bvh_leaf_bit) {
             const uint32_t first = (cur & ~bvh_leaf_bit) >> 3, count = cur & 7u;
-            vb lanes = alive & (vf(cur_near) <= wp.tmax);
             bool hit_any = false;
-            for (uint32_t k = first; k < first + count && any(lanes); ++k) {
-                const BvhTriangles4& q = bvh.blocks[k];
-                // The block's vertices relative to the common origin, permuted: the scalar
-                // test's subtractions, for the four triangles at once.
-                vfloat4 rel4[3][3];
-                if (relative) {
-                    const float(*v[3])[4] = {q.v0, q.v1, q.v2};
-                    const int axes[3] = {kx, ky, kz};
-                    for (int i = 0; i < 3; ++i)
-                        for (int j = 0; j < 3; ++j)
-                            rel4[i][j] = vfloat4::load(v[i][axes[j]]) - vfloat4(po[j]);
-                }
-                for (int l = 0; l < 4; ++l) {
-                    const uint32_t id = q.id[l];
-                    if (id == invalid_triangle) continue;
-                    vf t(0.f);
-                    vb hit;
-                    if (relative) {
-                        const auto at = [&](int i, int j) {
-                            return broadcast_lane<K>(rel4[i][j], l);
-                        };
-                        const RelativeTriangle<K> rel{at(0, 0), at(0, 1), at(0, 2),
-                                                      at(1, 0), at(1, 1), at(1, 2),
-                                                      at(2, 0), at(2, 1), at(2, 2)};
-                        hit = intersect_watertight_relative<K>(wp, lanes, rel, t);
-                    } else {
-                        const TriangleVerts tri{{q.v0[0][l], q.v0[1][l], q.v0[2][l]},
-                                                {q.v1[0][l], q.v1[1][l], q.v1[2][l]},
-                                                {q.v2[0][l], q.v2[1][l], q.v2[2][l]}};
-                        hit = intersect_watertight<K>(wp, lanes, tri, t);
+            for (int m = 0; m < M; ++m) {
+                Part& p = part[m];
+                vb lanes = p.alive & (vf(cur_near) <= p.wp.tmax);
+                for (uint32_t k = first; k < first + count && any(lanes); ++k) {
+                    const BvhTriangles4& q = bvh.blocks[k];
+                    // The block's vertices relative to the common origin, permuted: the scalar
+                    // test's subtractions, for the four triangles at once.
+                    vfloat4 rel4[3][3];
+                    if (p.relative) {
+                        const float(*v[3])[4] = {q.v0, q.v1, q.v2};
+                        for (int i = 0; i < 3; ++i)
+                            for (int j = 0; j < 3; ++j)
+                                rel4[i][j] = vfloat4::load(v[i][p.axes[j]]) - vfloat4(p.po[j]);
                     }
-                    if constexpr (AnyHit) {
-                        blocked |= hit;
-                        lanes = andnot(lanes, hit);
-                        alive = andnot(alive, hit);
-                    } else {
-                        // inclusive tmax: a later equal-t hit still reaches the index tie-break
-                        wp.tmax = select(best.update(hit, t, id), t, wp.tmax);
+                    for (int l = 0; l < 4; ++l) {
+                        const uint32_t id = q.id[l];
+                        if (id == invalid_triangle) continue;
+                        vf t(0.f);
+                        vb hit;
+                        if (p.relative) {
+                            const auto at = [&](int i, int j) {
+                                return broadcast_lane<K>(rel4[i][j], l);
+                            };
+                            const RelativeTriangle<K> rel{at(0, 0), at(0, 1), at(0, 2),
+                                                          at(1, 0), at(1, 1), at(1, 2),
+                                                          at(2, 0), at(2, 1), at(2, 2)};
+                            hit = intersect_watertight_relative<K>(p.wp, lanes, rel, t);
+                        } else {
+                            const TriangleVerts tri{{q.v0[0][l], q.v0[1][l], q.v0[2][l]},
+                                                    {q.v1[0][l], q.v1[1][l], q.v1[2][l]},
+                                                    {q.v2[0][l], q.v2[1][l], q.v2[2][l]}};
+                            hit = intersect_watertight<K>(p.wp, lanes, tri, t);
+                        }
+                        if constexpr (AnyHit) {
+                            blocked[m] |= hit;
+                            lanes = andnot(lanes, hit);
+                            p.alive = andnot(p.alive, hit);
+                        } else {
+                            // inclusive tmax: a later equal-t hit still reaches the index
+                            // tie-break
+                            p.wp.tmax = select(best[m].update(hit, t, id), t, p.wp.tmax);
+                        }
+                        hit_any |= any(hit);
                     }
-                    hit_any |= any(hit);
                 }
             }
             if (hit_any) {
-                if (AnyHit && none(alive)) return;
+                if constexpr (AnyHit) {
+                    bool done = true;
+                    for (int m = 0; m < M; ++m) done &= none(part[m].alive);
+                    if (done) return;
+                }
                 tfar = reach();
             }
         } else {
@@ -275,15 +324,20 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays& rays, PacketHit<K>& b
             uint32_t bits = frustum.test(node, tfar, near_w);
             alignas(64) float near[W];
             store(near, near_w);
-            const vb live = alive & (vf(cur_near) <= wp.tmax);
+            vb live[M];
+            for (int m = 0; m < M; ++m) live[m] = part[m].alive & (vf(cur_near) <= part[m].wp.tmax);
             const int base = top;  // this node's stacked children: nearest on top
             bool have = false;
             Entry next{};
             while (bits) {
                 const int c = std::countr_zero(bits);
                 bits &= bits - 1;
-                vf lane_near;
-                if (none(rays.test(node, c, live, wp.tmax, lane_near))) continue;
+                bool passes = false;
+                for (int m = 0; m < M && !passes; ++m) {
+                    vf lane_near;
+                    passes = any(rays[m]->test(node, c, live[m], part[m].wp.tmax, lane_near));
+                }
+                if (!passes) continue;
                 Entry e{node.child[c], near[c]};
                 prefetch_child(bvh, e.child);
                 if (!have) {
@@ -318,86 +372,180 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays& rays, PacketHit<K>& b
 template <int W, bool AnyHit>
 void traverse_packet(const Bvh<W>& bvh, const PacketRays& p, PacketHit<K>& best, vb& blocked) {
     if (!any(p.active)) return;
-    if (p.same_signs) return traverse_frustum<W, AnyHit>(bvh, p, best, blocked);
+    const PacketRays* parts[1] = {&p};
+    if (p.same_signs) return traverse_frustum<W, AnyHit, 1>(bvh, parts, &best, &blocked);
     // Lanes of differing signs: one frustum per direction octant (lanes are independent).
     PacketRays part = p;
+    parts[0] = &part;
     for_each_octant_group(signbits(p.dir.x), signbits(p.dir.y), signbits(p.dir.z),
                           movemask(p.active), [&](uint32_t lanes, uint32_t) {
                               part.restrict_to(lanes);
-                              traverse_frustum<W, AnyHit>(bvh, part, best, blocked);
+                              traverse_frustum<W, AnyHit, 1>(bvh, parts, &best, &blocked);
                           });
 }
 
-/// Closest hits of the lanes `used` of `packet`: hit(lane, Hit) for each.
+/// traverse_packet for M packets: one traversal when all their lanes share direction signs.
+template <int W, bool AnyHit, int M>
+void traverse_group(const Bvh<W>& bvh, const PacketRays* const* p, PacketHit<K>* best,
+                    vb* blocked) {
+    bool together = p[0]->same_signs;
+    for (int m = 0; m < M; ++m)
+        together &= any(p[m]->active) && p[m]->same_signs &&
+                    std::equal(p[0]->enter, p[0]->enter + 3, p[m]->enter);
+    if (together) return traverse_frustum<W, AnyHit, M>(bvh, p, best, blocked);
+    for (int m = 0; m < M; ++m) traverse_packet<W, AnyHit>(bvh, *p[m], best[m], blocked[m]);
+}
+
+/// Closest hits of the lanes used[m] of group_size packets, traced together where they can be
+/// (traverse_group): hit(m, lane, Hit) for each.
 template <int W, typename Out>
-void trace_block(const Bvh<W>& bvh, const RayPacket<K>& packet, uint32_t used, Out&& hit) {
-    const PacketRays p(packet, used, bvh.padded_bounds);
-    PacketHit<K> best;
-    vb unused(false);
-    traverse_packet<W, false>(bvh, p, best, unused);
-    for (uint32_t bits = used; bits; bits &= bits - 1) {
-        const int i = std::countr_zero(bits);
-        hit(i, (p.single >> i) & 1u                       ? trace_bvh(bvh, packet.get(i))
-               : best.tri[i] == int32_t(invalid_triangle) ? Hit{}
-                                                          : Hit{best.t[i], uint32_t(best.tri[i])});
+void trace_blocks(const Bvh<W>& bvh, const RayPacket<K>* const* packet, const uint32_t* used,
+                  Out&& hit) {
+    PacketRays rays[group_size];
+    const PacketRays* p[group_size];
+    for (int m = 0; m < group_size; ++m) {
+        rays[m] = PacketRays(*packet[m], used[m], bvh.padded_bounds);
+        p[m] = &rays[m];
+    }
+    PacketHit<K> best[group_size];
+    vb unused[group_size];
+    traverse_group<W, false, group_size>(bvh, p, best, unused);
+    for (int m = 0; m < group_size; ++m) {
+        for (uint32_t bits = used[m]; bits; bits &= bits - 1) {
+            const int i = std::countr_zero(bits);
+            const PacketHit<K>& h = best[m];
+            hit(m, i,
+                (p[m]->single >> i) & 1u                ? trace_bvh(bvh, packet[m]->get(i))
+                : h.tri[i] == int32_t(invalid_triangle) ? Hit{}
+                                                        : Hit{h.t[i], uint32_t(h.tri[i])});
+        }
     }
 }
 
-/// Lane bits of the lanes `used` of `packet` that some triangle blocks.
+/// The lane bits of the lanes used[m] of group_size packets that some triangle blocks, in
+/// bits[m]; the packets traced together where they can be.
 template <int W>
-uint32_t blocked_block(const Bvh<W>& bvh, const RayPacket<K>& packet, uint32_t used) {
-    const PacketRays p(packet, used, bvh.padded_bounds);
-    PacketHit<K> unused;
-    vb blocked(false);
-    traverse_packet<W, true>(bvh, p, unused, blocked);
-    uint32_t bits = movemask(blocked) & used & ~p.single;
-    for (uint32_t odd = p.single; odd; odd &= odd - 1) {
-        const int i = std::countr_zero(odd);
-        if (occluded_bvh(bvh, packet.get(i))) bits |= 1u << i;
+void blocked_blocks(const Bvh<W>& bvh, const RayPacket<K>* const* packet, const uint32_t* used,
+                    uint32_t* bits) {
+    PacketRays rays[group_size];
+    const PacketRays* p[group_size];
+    for (int m = 0; m < group_size; ++m) {
+        rays[m] = PacketRays(*packet[m], used[m], bvh.padded_bounds);
+        p[m] = &rays[m];
     }
-    return bits;
+    PacketHit<K> unused[group_size];
+    vb blocked[group_size];
+    for (vb& b : blocked) b = vb(false);
+    traverse_group<W, true, group_size>(bvh, p, unused, blocked);
+    for (int m = 0; m < group_size; ++m) {
+        bits[m] = movemask(blocked[m]) & used[m] & ~p[m]->single;
+        for (uint32_t odd = p[m]->single; odd; odd &= odd - 1) {
+            const int i = std::countr_zero(odd);
+            if (occluded_bvh(bvh, packet[m]->get(i))) bits[m] |= 1u << i;
+        }
+    }
 }
 
-/// Runs `block(packet, used)` on each packet of K consecutive rays.
+/// Hands the blocks `each` yields to group(packets, used, samples) group_size at a time; the
+/// last group is filled up with empty blocks (used 0).
+template <typename Each, typename Group>
+void in_groups(Each&& each, Group&& group) {
+    RayPacket<K> held[group_size];
+    uint32_t used[group_size] = {};
+    int sample[group_size][K];
+    const RayPacket<K>* packets[group_size];
+    const int* samples[group_size];
+    for (int m = 0; m < group_size; ++m) {
+        packets[m] = &held[m];
+        samples[m] = sample[m];
+    }
+    int n = 0;
+    each([&](const RayPacket<K>& packet, uint32_t active, const int* s) {
+        held[n] = packet;
+        used[n] = active;
+        std::copy_n(s, K, sample[n]);
+        if (++n < group_size) return;
+        group(packets, used, samples);
+        n = 0;
+    });
+    if (n == 0) return;
+    for (int m = n; m < group_size; ++m) used[m] = 0;
+    group(packets, used, samples);
+}
+
+/// Calls block(packet, used, sample) for each packet of K consecutive rays (sample: each
+/// lane's ray index, below 2^31).
 template <typename Block>
 void for_each_run(std::span<const Ray> rays, Block&& block) {
     RayPacket<K> packet;
+    int sample[K];
     for (size_t first = 0; first < rays.size(); first += K) {
         const size_t n = std::min(size_t(K), rays.size() - first);
-        for (size_t i = 0; i < size_t(K); ++i) packet.set(int(i), rays[first + (i < n ? i : 0)]);
-        block(packet, n == size_t(K) ? ~0u >> (32 - K) : (1u << n) - 1u, first);
+        for (size_t i = 0; i < size_t(K); ++i) {
+            packet.set(int(i), rays[first + (i < n ? i : 0)]);
+            sample[i] = int(first + i);
+        }
+        block(packet, n == size_t(K) ? ~0u >> (32 - K) : (1u << n) - 1u, sample);
     }
 }
+
+/// Ray arrays go in chunks whose indices fit the blocks' int samples.
+constexpr size_t run_chunk = size_t(1) << 30;
 
 }  // namespace
 
 template <int W>
 void trace_bvh_packets(const Bvh<W>& bvh, std::span<const Ray> rays, std::span<Hit> hits) {
     if (bvh.nodes.empty()) return std::fill(hits.begin(), hits.end(), Hit{});
-    for_each_run(rays, [&](const RayPacket<K>& packet, uint32_t used, size_t first) {
-        trace_block(bvh, packet, used, [&](int i, Hit h) { hits[first + size_t(i)] = h; });
-    });
+    if (rays.size() > run_chunk) {
+        for (size_t i = 0; i < rays.size(); i += run_chunk) {
+            const size_t n = std::min(run_chunk, rays.size() - i);
+            trace_bvh_packets(bvh, rays.subspan(i, n), hits.subspan(i, n));
+        }
+        return;
+    }
+    in_groups(
+        [&](auto&& block) { for_each_run(rays, block); },
+        [&](const RayPacket<K>* const* packet, const uint32_t* used, const int* const* sample) {
+            trace_blocks(bvh, packet, used,
+                         [&](int m, int i, Hit h) { hits[size_t(sample[m][i])] = h; });
+        });
 }
 
 template <int W>
 void visible_bvh_packets(const Bvh<W>& bvh, std::span<const Ray> rays, std::span<uint8_t> visible) {
     if (bvh.nodes.empty()) return std::fill(visible.begin(), visible.end(), uint8_t(1));
-    for_each_run(rays, [&](const RayPacket<K>& packet, uint32_t used, size_t first) {
-        const uint32_t blocked = blocked_block(bvh, packet, used);
-        for (uint32_t bits = used; bits; bits &= bits - 1) {
-            const int i = std::countr_zero(bits);
-            visible[first + size_t(i)] = !((blocked >> i) & 1u);
+    if (rays.size() > run_chunk) {
+        for (size_t i = 0; i < rays.size(); i += run_chunk) {
+            const size_t n = std::min(run_chunk, rays.size() - i);
+            visible_bvh_packets(bvh, rays.subspan(i, n), visible.subspan(i, n));
         }
-    });
+        return;
+    }
+    in_groups(
+        [&](auto&& block) { for_each_run(rays, block); },
+        [&](const RayPacket<K>* const* packet, const uint32_t* used, const int* const* sample) {
+            uint32_t blocked[group_size] = {};
+            blocked_blocks(bvh, packet, used, blocked);
+            for (int m = 0; m < group_size; ++m)
+                for (uint32_t bits = used[m]; bits; bits &= bits - 1) {
+                    const int i = std::countr_zero(bits);
+                    visible[size_t(sample[m][i])] = !((blocked[m] >> i) & 1u);
+                }
+        });
 }
 
 template <int W>
 void trace_bvh_tile(const Bvh<W>& bvh, const RayTile& tile, std::span<Hit> hits) {
     if (bvh.nodes.empty()) return std::fill(hits.begin(), hits.end(), Hit{});
-    for_each_ray_block<K>(
-        tile, [](int) { return true; },
-        [&](const RayPacket<K>& packet, uint32_t used, const int* sample) {
-            trace_block(bvh, packet, used, [&](int i, Hit h) { hits[size_t(sample[i])] = h; });
+    in_groups(
+        [&](auto&& block) {
+            for_each_ray_block<K>(
+                tile, [](int) { return true; }, block);
+        },
+        [&](const RayPacket<K>* const* packet, const uint32_t* used, const int* const* sample) {
+            trace_blocks(bvh, packet, used,
+                         [&](int m, int i, Hit h) { hits[size_t(sample[m][i])] = h; });
         });
 }
 
@@ -406,15 +554,19 @@ uint64_t visible_bvh_segments(const Bvh<W>& bvh, const SegmentTile& tile,
                               std::span<uint8_t> visible) {
     uint64_t traced = 0;
     for (size_t i = 0; i < tile.points.size(); ++i) visible[i] = 0;
-    for_each_segment_block<K>(
-        tile, [&](int s) { return tile.active[size_t(s)] != 0; },
-        [&](const RayPacket<K>& packet, uint32_t used, const int* sample) {
-            const uint32_t blocked = bvh.nodes.empty() ? 0u : blocked_block(bvh, packet, used);
-            for (uint32_t bits = used; bits; bits &= bits - 1) {
-                const int i = std::countr_zero(bits);
-                visible[size_t(sample[i])] = !((blocked >> i) & 1u);
+    const auto wanted = [&](int s) { return tile.active[size_t(s)] != 0; };
+    in_groups(
+        [&](auto&& block) { for_each_segment_block<K>(tile, wanted, block); },
+        [&](const RayPacket<K>* const* packet, const uint32_t* used, const int* const* sample) {
+            uint32_t blocked[group_size] = {};
+            if (!bvh.nodes.empty()) blocked_blocks(bvh, packet, used, blocked);
+            for (int m = 0; m < group_size; ++m) {
+                for (uint32_t bits = used[m]; bits; bits &= bits - 1) {
+                    const int i = std::countr_zero(bits);
+                    visible[size_t(sample[m][i])] = !((blocked[m] >> i) & 1u);
+                }
+                traced += uint64_t(std::popcount(used[m]));
             }
-            traced += uint64_t(std::popcount(used));
         });
     return traced;
 }
