@@ -29,21 +29,5 @@ inline constexpr int simd_max_width = 8;
 inline constexpr int simd_max_width = 4;
 #endif
 
-RTT_INTRINSICS_BEGIN
-/// Lane l (0-3) of x in every lane of a K-lane vector: one permute where the ISA has one.
-template <int K>
-RTT_FORCEINLINE vfloat<K> broadcast_lane(vfloat4 x, int l) {
-#if defined(RTT_HAVE_SIMD16)
-    if constexpr (K == 16)
-        return _mm512_permutexvar_ps(_mm512_set1_epi32(l), _mm512_castps128_ps512(x));
-#endif
-#if defined(RTT_HAVE_SIMD8)
-    if constexpr (K == 8)
-        return _mm256_permutevar8x32_ps(_mm256_castps128_ps256(x), _mm256_set1_epi32(l));
-#endif
-    return vfloat<K>(x[l]);
-}
-RTT_INTRINSICS_END
-
 }  // namespace RTT_ISA_NS
 }  // namespace rtt

@@ -270,13 +270,16 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays* const* rays, PacketHi
                 for (uint32_t k = first; k < first + count && any(lanes); ++k) {
                     const BvhTriangles4& q = bvh.blocks[k];
                     // The block's vertices relative to the common origin, permuted: the scalar
-                    // test's subtractions, for the four triangles at once.
-                    vfloat4 rel4[3][3];
+                    // test's subtractions, for the four triangles at once. Kept in memory: a
+                    // lane is broadcast by the load port, where a permute would take a port the
+                    // test's arithmetic needs (docs/benchmarks.md, "Arbitrary rays").
+                    alignas(16) float rel4[3][3][4];
                     if (p.relative) {
                         const float(*v[3])[4] = {q.v0, q.v1, q.v2};
                         for (int i = 0; i < 3; ++i)
                             for (int j = 0; j < 3; ++j)
-                                rel4[i][j] = vfloat4::load(v[i][p.axes[j]]) - vfloat4(p.po[j]);
+                                store(rel4[i][j],
+                                      vfloat4::load(v[i][p.axes[j]]) - vfloat4(p.po[j]));
                     }
                     for (int l = 0; l < 4; ++l) {
                         const uint32_t id = q.id[l];
@@ -284,9 +287,7 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays* const* rays, PacketHi
                         vf t(0.f);
                         vb hit;
                         if (p.relative) {
-                            const auto at = [&](int i, int j) {
-                                return broadcast_lane<K>(rel4[i][j], l);
-                            };
+                            const auto at = [&](int i, int j) { return vf(rel4[i][j][l]); };
                             const RelativeTriangle<K> rel{at(0, 0), at(0, 1), at(0, 2),
                                                           at(1, 0), at(1, 1), at(1, 2),
                                                           at(2, 0), at(2, 1), at(2, 2)};
