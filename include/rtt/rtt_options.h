@@ -106,12 +106,11 @@ struct RttOptions {
     /// `extended` rules: the default 64 covers K = 1 and 2, where it measured faster. 0 = always
     /// walk (4x4-sample tiles still take the lean pass). At most rtt_max_samples_per_tile.
     int lean_max_samples = 64;
-    /// Declined regions whose rays lie sparsely (K = 1 and wider; docs/benchmarks.md, "RTT's
-    /// fallback") are traced faster through a BVH than through the kd-tree, but the BVH costs a
-    /// build. By default it is built once such rays have paid for it (about 30 per triangle,
-    /// tens of frames); bvh_at_setup builds it with the tracer, for long renders and for
-    /// benchmarks that time frames apart from builds. Loose rays off curved mirrors use the
-    /// same BVH.
+    /// Declined regions (docs/benchmarks.md, "RTT's fallback") are traced faster through a BVH
+    /// than through the kd-tree, but the BVH costs a build. By default it is built once such rays
+    /// have paid for it (about 30 per triangle, tens of frames); bvh_at_setup builds it with the
+    /// tracer, for long renders and for benchmarks that time frames apart from builds. Loose rays
+    /// off curved mirrors use the same BVH.
     bool bvh_at_setup = false;
 
     /// Throws rtt::Error for a value out of range.

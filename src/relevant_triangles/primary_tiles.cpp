@@ -215,25 +215,21 @@ void RttTracer::intersect_shaft(const RayTile& tile, std::span<Hit> hits,
 
 void RttTracer::trace_declined(const RayTile& tile, const Ray (&corners)[4], std::span<Hit> hits,
                                RttStats& st) const {
-    // Dense regions go as one large kd-tree packet, sparser ones through the BVH's 16-ray
-    // packets once it is built (docs/benchmarks.md, "RTT's fallback"): dense when the corner
-    // diagonals' angle over the samples between them is below dense_sample_radians.
+    // Through the BVH's packets once it is built (docs/benchmarks.md, "RTT's fallback");
+    // until then one large kd-tree packet up to 2 degrees, the 16-ray packets beyond.
+    if (bvh_pays(declined_rays_, declined_rays_per_triangle, tile.rays.size())) {
+        trace_bvh_tile(bvh(), tile, hits);
+        st.bvh_rays += uint64_t(tile.rays.size());
+        return;
+    }
     const auto angle = [](const Vec3f& a, const Vec3f& b) {
         return std::acos(std::clamp(dot(a, b) / (length(a) * length(b)), -1.f, 1.f));
     };
-    constexpr float degree = 3.14159265f / 180.f;
-    constexpr float dense_sample_radians = 0.055f * degree;
-    // Without the BVH, one large packet still pays up to 2 degrees, the 16-ray packets beyond.
-    constexpr float narrow_radians = 2.f * degree;
+    constexpr float narrow_radians = 2.f * 3.14159265f / 180.f;
     const float diagonal =
         std::max(angle(corners[0].dir, corners[3].dir), angle(corners[1].dir, corners[2].dir));
-    const float steps = std::hypot(float(tile.width - 1), float(tile.height - 1));
-    const bool dense = diagonal < dense_sample_radians * steps;
-    if (!dense && bvh_pays(sparse_rays_, declined_rays_per_triangle, tile.rays.size())) {
-        trace_bvh_tile(bvh(), tile, hits);
-        st.bvh_rays += uint64_t(tile.rays.size());
-    } else if (!((dense || diagonal < narrow_radians) &&
-                 trace_frustum(tree_, triangles_, tile.rays, tile.width, tile.height, hits))) {
+    if (!(diagonal < narrow_radians &&
+          trace_frustum(tree_, triangles_, tile.rays, tile.width, tile.height, hits))) {
         trace_tile_packets<fallback_width>(tree_, triangles_, tile, hits);
     }
 }

@@ -76,7 +76,7 @@ inline constexpr int fallback_width = simd_max_width;
 /// them (RttTracer::spread, bvh_pays; measured in docs/benchmarks.md, "Loose rays").
 inline constexpr float loose_cos_max = 0.99619f;  // cos(5 degrees)
 inline constexpr double loose_rays_per_triangle = 10.0;
-/// Rays of sparse declined regions per triangle after which the BVH is built for them: its
+/// Rays of declined regions per triangle after which the BVH is built for them: its
 /// build over what it saves per such ray (docs/benchmarks.md, "RTT's fallback").
 inline constexpr double declined_rays_per_triangle = 30.0;
 // The budgets and the lean pass's extent are RttOptions (include/rtt/rtt_options.h); the
@@ -171,7 +171,7 @@ private:
     // Tiles that are no shaft (reflections off curved mirrors, their shadow segments) go
     // through the BVH's packets rather than the kd-tree's when it is built or has paid for its
     // build; reflected rays only when their directions spread widely (docs/benchmarks.md,
-    // "Loose rays"). Declined shaft regions whose rays lie sparsely go through it too.
+    // "Loose rays"). Declined shaft regions go through it too.
     static bool spread(std::span<const Ray> rays);
     /// Whether `rays` more (counted in `seen`) may take the BVH: it is built, or such rays
     /// reached `per_triangle` per triangle.
@@ -257,8 +257,8 @@ private:
     mutable std::once_flag bvh_once_;
     mutable std::unique_ptr<const Bvh<bvh_width>> bvh_;
     mutable std::atomic<bool> bvh_built_{false};
-    mutable std::atomic<uint64_t> loose_rays_{0};   ///< Spread rays of tiles that are no shaft.
-    mutable std::atomic<uint64_t> sparse_rays_{0};  ///< Rays of sparse declined regions.
+    mutable std::atomic<uint64_t> loose_rays_{0};     ///< Spread rays of tiles that are no shaft.
+    mutable std::atomic<uint64_t> declined_rays_{0};  ///< Rays of declined regions.
 };
 
 }  // namespace rtt_detail
