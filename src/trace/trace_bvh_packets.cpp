@@ -397,17 +397,25 @@ void traverse_group(const Bvh<W>& bvh, const PacketRays* const* p, PacketHit<K>*
     for (int m = 0; m < M; ++m) traverse_packet<W, AnyHit>(bvh, *p[m], best[m], blocked[m]);
 }
 
+/// The PacketRays of group_size packets (the lanes used[m] of packet m), and pointers to them.
+struct PacketGroup {
+    PacketRays rays[group_size];
+    const PacketRays* p[group_size];
+    PacketGroup(const RayPacket<K>* const* packet, const uint32_t* used, const Bbox3f& bounds) {
+        for (int m = 0; m < group_size; ++m) {
+            rays[m] = PacketRays(*packet[m], used[m], bounds);
+            p[m] = &rays[m];
+        }
+    }
+};
+
 /// Closest hits of the lanes used[m] of group_size packets, traced together where they can be
 /// (traverse_group): hit(m, lane, Hit) for each.
 template <int W, typename Out>
 void trace_blocks(const Bvh<W>& bvh, const RayPacket<K>* const* packet, const uint32_t* used,
                   Out&& hit) {
-    PacketRays rays[group_size];
-    const PacketRays* p[group_size];
-    for (int m = 0; m < group_size; ++m) {
-        rays[m] = PacketRays(*packet[m], used[m], bvh.padded_bounds);
-        p[m] = &rays[m];
-    }
+    const PacketGroup group(packet, used, bvh.padded_bounds);
+    const PacketRays* const* p = group.p;
     PacketHit<K> best[group_size];
     vb unused[group_size];
     traverse_group<W, false, group_size>(bvh, p, best, unused);
@@ -428,12 +436,8 @@ void trace_blocks(const Bvh<W>& bvh, const RayPacket<K>* const* packet, const ui
 template <int W>
 void blocked_blocks(const Bvh<W>& bvh, const RayPacket<K>* const* packet, const uint32_t* used,
                     uint32_t* bits) {
-    PacketRays rays[group_size];
-    const PacketRays* p[group_size];
-    for (int m = 0; m < group_size; ++m) {
-        rays[m] = PacketRays(*packet[m], used[m], bvh.padded_bounds);
-        p[m] = &rays[m];
-    }
+    const PacketGroup group(packet, used, bvh.padded_bounds);
+    const PacketRays* const* p = group.p;
     PacketHit<K> unused[group_size];
     vb blocked[group_size];
     for (vb& b : blocked) b = vb(false);
@@ -490,50 +494,44 @@ void for_each_run(std::span<const Ray> rays, Block&& block) {
     }
 }
 
-/// Ray arrays go in chunks whose indices fit the blocks' int samples.
-constexpr size_t run_chunk = size_t(1) << 30;
+/// Calls fn(first, count) over [0, size) in chunks whose indices fit the blocks' int samples.
+template <typename Fn>
+void in_chunks(size_t size, Fn&& fn) {
+    constexpr size_t chunk = size_t(1) << 30;
+    for (size_t first = 0; first < size; first += chunk) fn(first, std::min(chunk, size - first));
+}
 
 }  // namespace
 
 template <int W>
 void trace_bvh_packets(const Bvh<W>& bvh, std::span<const Ray> rays, std::span<Hit> hits) {
     if (bvh.nodes.empty()) return std::fill(hits.begin(), hits.end(), Hit{});
-    if (rays.size() > run_chunk) {
-        for (size_t i = 0; i < rays.size(); i += run_chunk) {
-            const size_t n = std::min(run_chunk, rays.size() - i);
-            trace_bvh_packets(bvh, rays.subspan(i, n), hits.subspan(i, n));
-        }
-        return;
-    }
-    in_groups(
-        [&](auto&& block) { for_each_run(rays, block); },
-        [&](const RayPacket<K>* const* packet, const uint32_t* used, const int* const* sample) {
-            trace_blocks(bvh, packet, used,
-                         [&](int m, int i, Hit h) { hits[size_t(sample[m][i])] = h; });
-        });
+    in_chunks(rays.size(), [&](size_t first, size_t count) {
+        in_groups(
+            [&](auto&& block) { for_each_run(rays.subspan(first, count), block); },
+            [&](const RayPacket<K>* const* packet, const uint32_t* used, const int* const* sample) {
+                trace_blocks(bvh, packet, used,
+                             [&](int m, int i, Hit h) { hits[first + size_t(sample[m][i])] = h; });
+            });
+    });
 }
 
 template <int W>
 void visible_bvh_packets(const Bvh<W>& bvh, std::span<const Ray> rays, std::span<uint8_t> visible) {
     if (bvh.nodes.empty()) return std::fill(visible.begin(), visible.end(), uint8_t(1));
-    if (rays.size() > run_chunk) {
-        for (size_t i = 0; i < rays.size(); i += run_chunk) {
-            const size_t n = std::min(run_chunk, rays.size() - i);
-            visible_bvh_packets(bvh, rays.subspan(i, n), visible.subspan(i, n));
-        }
-        return;
-    }
-    in_groups(
-        [&](auto&& block) { for_each_run(rays, block); },
-        [&](const RayPacket<K>* const* packet, const uint32_t* used, const int* const* sample) {
-            uint32_t blocked[group_size] = {};
-            blocked_blocks(bvh, packet, used, blocked);
-            for (int m = 0; m < group_size; ++m)
-                for (uint32_t bits = used[m]; bits; bits &= bits - 1) {
-                    const int i = std::countr_zero(bits);
-                    visible[size_t(sample[m][i])] = !((blocked[m] >> i) & 1u);
-                }
-        });
+    in_chunks(rays.size(), [&](size_t first, size_t count) {
+        in_groups(
+            [&](auto&& block) { for_each_run(rays.subspan(first, count), block); },
+            [&](const RayPacket<K>* const* packet, const uint32_t* used, const int* const* sample) {
+                uint32_t blocked[group_size] = {};
+                blocked_blocks(bvh, packet, used, blocked);
+                for (int m = 0; m < group_size; ++m)
+                    for (uint32_t bits = used[m]; bits; bits &= bits - 1) {
+                        const int i = std::countr_zero(bits);
+                        visible[first + size_t(sample[m][i])] = !((blocked[m] >> i) & 1u);
+                    }
+            });
+    });
 }
 
 template <int W>
