@@ -11,6 +11,7 @@
 #include <bit>
 #include <cfloat>
 #include <cstddef>
+#include <cstring>
 
 #include "geom/triangle_simd.h"
 #include "simd/simd.h"
@@ -228,6 +229,7 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays* const* rays, PacketHi
         bool relative;
         float po[3];
         int axes[3];
+        int origin_of;  ///< The first part with the same po and axes (its relative vertices).
     };
     Part part[M];
     for (int m = 0; m < M; ++m) {
@@ -243,6 +245,14 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays* const* rays, PacketHi
         p.axes[0] = p.wp.ukx;
         p.axes[1] = p.wp.uky;
         p.axes[2] = p.wp.ukz;
+        p.origin_of = m;
+        // Bit for bit: -0 and 0 subtract differently.
+        for (int o = 0; o < m; ++o)
+            if (std::memcmp(p.po, part[o].po, sizeof p.po) == 0 &&
+                std::equal(p.axes, p.axes + 3, part[o].axes)) {
+                p.origin_of = o;
+                break;
+            }
     }
     const vf ninf(neg_inf);
     // The farthest any live lane may still reach: what a subtree must start before.
@@ -264,22 +274,33 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays* const* rays, PacketHi
         if (cur & bvh_leaf_bit) {
             const uint32_t first = (cur & ~bvh_leaf_bit) >> 3, count = cur & 7u;
             bool hit_any = false;
-            for (int m = 0; m < M; ++m) {
-                Part& p = part[m];
-                vb lanes = p.alive & (vf(cur_near) <= p.wp.tmax);
-                for (uint32_t k = first; k < first + count && any(lanes); ++k) {
-                    const BvhTriangles4& q = bvh.blocks[k];
-                    // The block's vertices relative to the common origin, permuted: the scalar
-                    // test's subtractions, for the four triangles at once. Kept in memory: a
-                    // lane is broadcast by the load port, where a permute would take a port the
-                    // test's arithmetic needs (docs/benchmarks.md, "Arbitrary rays").
-                    alignas(16) float rel4[3][3][4];
-                    if (p.relative) {
+            vb lanes[M];
+            for (int m = 0; m < M; ++m)
+                lanes[m] = part[m].alive & (vf(cur_near) <= part[m].wp.tmax);
+            const auto some_lanes = [&] {
+                vb all = lanes[0];
+                for (int m = 1; m < M; ++m) all |= lanes[m];
+                return any(all);
+            };
+            for (uint32_t k = first; k < first + count && some_lanes(); ++k) {
+                const BvhTriangles4& q = bvh.blocks[k];
+                // The block's vertices relative to the common origin, permuted: the scalar
+                // test's subtractions, for the four triangles at once, and once for packets
+                // that share origin and permutation. Kept in memory: a lane is broadcast by the
+                // load port, where a permute would take a port the test's arithmetic needs
+                // (docs/benchmarks.md, "Arbitrary rays").
+                alignas(16) float rel4[3][3][4];
+                int rel_of = -1;  // the part whose origin rel4 holds
+                for (int m = 0; m < M; ++m) {
+                    Part& p = part[m];
+                    if (none(lanes[m])) continue;
+                    if (p.relative && rel_of != p.origin_of) {
                         const float(*v[3])[4] = {q.v0, q.v1, q.v2};
                         for (int i = 0; i < 3; ++i)
                             for (int j = 0; j < 3; ++j)
                                 store(rel4[i][j],
                                       vfloat4::load(v[i][p.axes[j]]) - vfloat4(p.po[j]));
+                        rel_of = p.origin_of;
                     }
                     for (int l = 0; l < 4; ++l) {
                         const uint32_t id = q.id[l];
@@ -291,16 +312,16 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays* const* rays, PacketHi
                             const RelativeTriangle<K> rel{at(0, 0), at(0, 1), at(0, 2),
                                                           at(1, 0), at(1, 1), at(1, 2),
                                                           at(2, 0), at(2, 1), at(2, 2)};
-                            hit = intersect_watertight_relative<K>(p.wp, lanes, rel, t);
+                            hit = intersect_watertight_relative<K>(p.wp, lanes[m], rel, t);
                         } else {
                             const TriangleVerts tri{{q.v0[0][l], q.v0[1][l], q.v0[2][l]},
                                                     {q.v1[0][l], q.v1[1][l], q.v1[2][l]},
                                                     {q.v2[0][l], q.v2[1][l], q.v2[2][l]}};
-                            hit = intersect_watertight<K>(p.wp, lanes, tri, t);
+                            hit = intersect_watertight<K>(p.wp, lanes[m], tri, t);
                         }
                         if constexpr (AnyHit) {
                             blocked[m] |= hit;
-                            lanes = andnot(lanes, hit);
+                            lanes[m] = andnot(lanes[m], hit);
                             p.alive = andnot(p.alive, hit);
                         } else {
                             // inclusive tmax: a later equal-t hit still reaches the index
@@ -389,7 +410,7 @@ void traverse_packet(const Bvh<W>& bvh, const PacketRays& p, PacketHit<K>& best,
 template <int W, bool AnyHit, int M>
 void traverse_group(const Bvh<W>& bvh, const PacketRays* const* p, PacketHit<K>* best,
                     vb* blocked) {
-    bool together = p[0]->same_signs;
+    bool together = true;
     for (int m = 0; m < M; ++m)
         together &= any(p[m]->active) && p[m]->same_signs &&
                     std::equal(p[0]->enter, p[0]->enter + 3, p[m]->enter);
