@@ -31,6 +31,7 @@ struct Fixture {
     std::vector<TriangleVerts> triangles;
     std::vector<std::unique_ptr<Tracer>> packet_tracers;  // "packet", "packet8", "packet16"
     size_t oracle_stride = 1;  ///< Brute force for every n-th sample of a tile (big scenes: > 1).
+    bool sound_tree = true;    ///< Every triangle in every leaf it meets (BlockerCache's premise).
 
     explicit Fixture(Scene s) : scene(std::move(s)) {
         tree = build_kdtree(scene);
@@ -118,6 +119,7 @@ struct Tally {
     uint64_t mismatches = 0;      ///< Packet tracers against the oracle.
     uint64_t ray_mismatches = 0;  ///< trace_ray / occluded_ray against the oracle.
     uint64_t vs_ray = 0;          ///< Packet tracers against trace_ray / occluded_ray.
+    uint64_t cached = 0;          ///< Shadow lanes a BlockerCache decided (vs_ray counts them).
 };
 
 /// Every packet tracer against the oracle and trace_ray on one tile; then the tile's shadow
@@ -169,6 +171,20 @@ void check_tile(const Fixture& f, const RayTile& tile, const Vec3f& light, Tally
             tally.vs_ray += visible[i] != reference_bits[i];
         }
     }
+    if (!f.sound_tree) return;
+    // Blockers of earlier packets first (trace/blocker_cache.h), from a cache that already
+    // holds the tile's last blockers: every packet starts with it filled.
+    PacketStats stats;
+    BlockerCache blockers;
+    for (int pass = 0; pass < 2; ++pass) {
+        std::fill(visible.begin(), visible.end(), uint8_t(7));
+        occluded_tile_packets<4>(f.tree, f.triangles, seg, visible, &stats, &blockers);
+        for (size_t i = 0; i < n; ++i) {
+            tally.mismatches += oracle(i) && visible[i] != want[i];
+            tally.vs_ray += visible[i] != reference_bits[i];
+        }
+    }
+    tally.cached += stats.cached;
 }
 
 /// Primary tiles of CONVENTIONS (4x4 pixels, aa x aa samples each: 4aa x 4aa rays).
@@ -220,17 +236,19 @@ void check_random(const Fixture& f, const Bbox3f& box, int tiles, unsigned seed,
 void report(const char* what, const Fixture& f, const Tally& t) {
     std::printf(
         "%s: %llu rays (%llu hits), %llu segments (%llu visible); mismatches against brute force: "
-        "%zu packet tracers %llu, trace_ray %llu; packet tracers against trace_ray: %llu\n",
+        "%zu packet tracers %llu, trace_ray %llu; packet tracers against trace_ray: %llu; "
+        "shadow lanes decided by cached blockers: %llu\n",
         what, (unsigned long long)t.rays, (unsigned long long)t.hits,
         (unsigned long long)t.segments, (unsigned long long)t.visible, f.packet_tracers.size(),
         (unsigned long long)t.mismatches, (unsigned long long)t.ray_mismatches,
-        (unsigned long long)t.vs_ray);
+        (unsigned long long)t.vs_ray, (unsigned long long)t.cached);
     EXPECT_EQ(t.mismatches, 0u);
     EXPECT_EQ(t.ray_mismatches, 0u);
     EXPECT_EQ(t.vs_ray, 0u);
     EXPECT_GT(t.hits, t.rays / 10);  // the scene is actually in view
     EXPECT_GT(t.visible, 0u);
     EXPECT_GT(t.segments, t.visible);  // some shadows
+    if (f.sound_tree) EXPECT_GT(t.cached, 0u) << "no lane was decided by a cached blocker";
 }
 
 TEST(PacketTracer, RegisteredForEachBuiltWidth) {
@@ -239,6 +257,20 @@ TEST(PacketTracer, RegisteredForEachBuiltWidth) {
     EXPECT_EQ(f.packet_tracers[0]->name(), "packet");
     const Isa isa = active_isa();  // packet8 from AVX2 on, packet16 with AVX-512
     EXPECT_EQ(f.packet_tracers.size(), 1u + (isa >= Isa::avx2) + (isa >= Isa::avx512));
+}
+
+TEST(PacketTracer, BlockerCacheKeepsTheLatestFirst) {
+    BlockerCache c;
+    const auto tri = [](float x) { return TriangleVerts{{x, 0, 0}, {x, 1, 0}, {x, 0, 1}}; };
+    const auto ids = [&] { return std::vector<uint32_t>(c.id, c.id + c.count); };
+    for (uint32_t i = 1; i <= 3; ++i) c.note(i, tri(float(i)));
+    EXPECT_EQ(ids(), (std::vector<uint32_t>{3, 2, 1}));
+    c.note(1, tri(1.f));  // moves to the front, nothing dropped
+    EXPECT_EQ(ids(), (std::vector<uint32_t>{1, 3, 2}));
+    for (uint32_t i = 4; i <= 6; ++i) c.note(i, tri(float(i)));  // full: the oldest go
+    ASSERT_EQ(BlockerCache::size, 4);
+    EXPECT_EQ(ids(), (std::vector<uint32_t>{6, 5, 4, 1}));
+    for (int k = 0; k < c.count; ++k) EXPECT_EQ(c.tri[k].v0.x, float(c.id[k]));
 }
 
 TEST(PacketTracer, RandomSoupMatchesBruteForce) {
@@ -344,6 +376,7 @@ TEST(PacketTracer, SameNodesAsTraceRayEvenOnABrokenTree) {
     std::vector<uint32_t> all(f.triangles.size());
     for (uint32_t i = 0; i < all.size(); ++i) all[i] = i;
     build_centroid_tree(f.tree, f.triangles, all, 0);
+    f.sound_tree = false;
     f.packet_tracers.clear();
     for (const std::string& kind : tracer_kinds())
         if (kind.starts_with("packet"))

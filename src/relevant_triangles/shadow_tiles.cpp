@@ -59,7 +59,9 @@ void RttTracer::occluded(const SegmentTile& tile, std::span<uint8_t> visible,
             visible_bvh_segments(bvh(), tile, visible);
             st.bvh_rays += active_count;
         } else {
-            occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
+            BlockerCache blockers;
+            occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible, nullptr,
+                                                  &blockers);
         }
         count_decline(st, Decline::no_shaft);
     } else {
@@ -88,13 +90,14 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
     Ray corners[4];
     int cs[4];
     Shaft shaft;
+    BlockerCache blockers;
     // The region of the answered segments: the shaft between the start and end offsets, and
     // on the light's side of the receiver plane. A segment L + t w, t <= tmax, of a point within
     // receiver_tol of the plane (checked per point: n.w + H >= -receiver_tol) has
     // n . (x - L) = t n.w >= -tmax (H + receiver_tol).
     const auto trace_all = [&](Decline why) {
         const FallbackClock clock(st.fallback_ns);
-        occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible);
+        occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible, nullptr, &blockers);
         count_decline(st, why);
     };
     FacingPlane receiver;
@@ -154,7 +157,8 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
     for_each_segment_block<fallback_width>(
         tile, [&](int s) { return need.test(s); },
         [&](const RayPacket<fallback_width>& packet, uint32_t active, const int* sample) {
-            const uint32_t occ = occluded_packet<fallback_width>(tree_, triangles_, packet, active);
+            const uint32_t occ = occluded_packet<fallback_width>(tree_, triangles_, packet, active,
+                                                                 nullptr, &blockers);
             for (uint32_t b = active; b; b &= b - 1) {
                 const int lane = std::countr_zero(b);
                 visible[sample[lane]] = !((occ >> lane) & 1u);

@@ -15,6 +15,7 @@
 
 #include "geom/triangle_simd.h"
 #include "simd/simd.h"
+#include "trace/blocker_cache.h"
 #include "trace/octant_groups.h"
 #include "trace/packet_blocks.h"
 #include "trace/trace_bvh.h"
@@ -215,9 +216,10 @@ RTT_FORCEINLINE void prefetch_child(const Bvh<W>& bvh, uint32_t child) {
 /// are culled by one W-lane test of the packets' common frustum, and a survivor is entered when
 /// some packet's lanes pass it. Subtrees are ordered by the frustum's entry distance, one
 /// number for all lanes. A leaf is tested by every live lane that may still reach it.
+/// `blockers` (any hit, may be null): tested on every lane first; blockers found are noted.
 template <int W, bool AnyHit, int M>
 void traverse_frustum(const Bvh<W>& bvh, const PacketRays* const* rays, PacketHit<K>* best,
-                      vb* blocked) {
+                      vb* blocked, BlockerCache* blockers) {
     using vw = vfloat<W>;
     const PacketFrustum<W> frustum(rays, M);
     /// One packet's watertight constants, live lanes and common origin.
@@ -253,6 +255,22 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays* const* rays, PacketHi
                 p.origin_of = o;
                 break;
             }
+    }
+    if constexpr (AnyHit) {
+        if (blockers) {
+            bool done = true;
+            for (int m = 0; m < M; ++m) {
+                Part& p = part[m];
+                for (int c = 0; c < blockers->count; ++c) {
+                    vf t;
+                    const vb hit = intersect_watertight<K>(p.wp, p.alive, blockers->tri[c], t);
+                    blocked[m] |= hit;
+                    p.alive = andnot(p.alive, hit);
+                }
+                done &= none(p.alive);
+            }
+            if (done) return;
+        }
     }
     const vf ninf(neg_inf);
     // The farthest any live lane may still reach: what a subtree must start before.
@@ -323,6 +341,10 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays* const* rays, PacketHi
                             blocked[m] |= hit;
                             lanes[m] = andnot(lanes[m], hit);
                             p.alive = andnot(p.alive, hit);
+                            if (blockers && any(hit))
+                                blockers->note(id, {{q.v0[0][l], q.v0[1][l], q.v0[2][l]},
+                                                    {q.v1[0][l], q.v1[1][l], q.v1[2][l]},
+                                                    {q.v2[0][l], q.v2[1][l], q.v2[2][l]}});
                         } else {
                             // inclusive tmax: a later equal-t hit still reaches the index
                             // tie-break
@@ -392,30 +414,32 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays* const* rays, PacketHi
 
 /// traverse() with the node test the packet's direction signs allow.
 template <int W, bool AnyHit>
-void traverse_packet(const Bvh<W>& bvh, const PacketRays& p, PacketHit<K>& best, vb& blocked) {
+void traverse_packet(const Bvh<W>& bvh, const PacketRays& p, PacketHit<K>& best, vb& blocked,
+                     BlockerCache* blockers) {
     if (!any(p.active)) return;
     const PacketRays* parts[1] = {&p};
-    if (p.same_signs) return traverse_frustum<W, AnyHit, 1>(bvh, parts, &best, &blocked);
+    if (p.same_signs) return traverse_frustum<W, AnyHit, 1>(bvh, parts, &best, &blocked, blockers);
     // Lanes of differing signs: one frustum per direction octant (lanes are independent).
     PacketRays part = p;
     parts[0] = &part;
     for_each_octant_group(signbits(p.dir.x), signbits(p.dir.y), signbits(p.dir.z),
                           movemask(p.active), [&](uint32_t lanes, uint32_t) {
                               part.restrict_to(lanes);
-                              traverse_frustum<W, AnyHit, 1>(bvh, parts, &best, &blocked);
+                              traverse_frustum<W, AnyHit, 1>(bvh, parts, &best, &blocked, blockers);
                           });
 }
 
 /// traverse_packet for M packets: one traversal when all their lanes share direction signs.
 template <int W, bool AnyHit, int M>
-void traverse_group(const Bvh<W>& bvh, const PacketRays* const* p, PacketHit<K>* best,
-                    vb* blocked) {
+void traverse_group(const Bvh<W>& bvh, const PacketRays* const* p, PacketHit<K>* best, vb* blocked,
+                    BlockerCache* blockers = nullptr) {
     bool together = true;
     for (int m = 0; m < M; ++m)
         together &= any(p[m]->active) && p[m]->same_signs &&
                     std::equal(p[0]->enter, p[0]->enter + 3, p[m]->enter);
-    if (together) return traverse_frustum<W, AnyHit, M>(bvh, p, best, blocked);
-    for (int m = 0; m < M; ++m) traverse_packet<W, AnyHit>(bvh, *p[m], best[m], blocked[m]);
+    if (together) return traverse_frustum<W, AnyHit, M>(bvh, p, best, blocked, blockers);
+    for (int m = 0; m < M; ++m)
+        traverse_packet<W, AnyHit>(bvh, *p[m], best[m], blocked[m], blockers);
 }
 
 /// The PacketRays of group_size packets (the lanes used[m] of packet m), and pointers to them.
@@ -453,16 +477,16 @@ void trace_blocks(const Bvh<W>& bvh, const RayPacket<K>* const* packet, const ui
 }
 
 /// The lane bits of the lanes used[m] of group_size packets that some triangle blocks, in
-/// bits[m]; the packets traced together where they can be.
+/// bits[m]; the packets traced together where they can be. `blockers` as in traverse_frustum.
 template <int W>
 void blocked_blocks(const Bvh<W>& bvh, const RayPacket<K>* const* packet, const uint32_t* used,
-                    uint32_t* bits) {
+                    uint32_t* bits, BlockerCache* blockers = nullptr) {
     const PacketGroup group(packet, used, bvh.padded_bounds);
     const PacketRays* const* p = group.p;
     PacketHit<K> unused[group_size];
     vb blocked[group_size];
     for (vb& b : blocked) b = vb(false);
-    traverse_group<W, true, group_size>(bvh, p, unused, blocked);
+    traverse_group<W, true, group_size>(bvh, p, unused, blocked, blockers);
     for (int m = 0; m < group_size; ++m) {
         bits[m] = movemask(blocked[m]) & used[m] & ~p[m]->single;
         for (uint32_t odd = p[m]->single; odd; odd &= odd - 1) {
@@ -575,11 +599,12 @@ uint64_t visible_bvh_segments(const Bvh<W>& bvh, const SegmentTile& tile,
     uint64_t traced = 0;
     for (size_t i = 0; i < tile.points.size(); ++i) visible[i] = 0;
     const auto wanted = [&](int s) { return tile.active[size_t(s)] != 0; };
+    BlockerCache blockers;
     in_groups(
         [&](auto&& block) { for_each_segment_block<K>(tile, wanted, block); },
         [&](const RayPacket<K>* const* packet, const uint32_t* used, const int* const* sample) {
             uint32_t blocked[group_size] = {};
-            if (!bvh.nodes.empty()) blocked_blocks(bvh, packet, used, blocked);
+            if (!bvh.nodes.empty()) blocked_blocks(bvh, packet, used, blocked, &blockers);
             for (int m = 0; m < group_size; ++m) {
                 for (uint32_t bits = used[m]; bits; bits &= bits - 1) {
                     const int i = std::countr_zero(bits);

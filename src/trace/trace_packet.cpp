@@ -44,6 +44,7 @@ struct TraversalResult<K, false> {
 template <int K>
 struct TraversalResult<K, true> {
     vbool<K> occluded = vbool<K>(false);
+    uint32_t blocker = ~0u;  ///< The last triangle found blocking a lane, ~0u for none.
 };
 
 /// Traverses the tree with the lanes `in` of `rays`, all of which share the sign of every
@@ -73,11 +74,14 @@ struct TraversalResult<K, true> {
 ///
 /// ZeroDir: some lane of `in` has a zero direction component (its split distances along that
 /// axis take no margin). Without such lanes the margin needs no per-axis select.
+/// `blockers` (any hit only, may be null): triangles tested on every lane before the traversal
+/// (BlockerCache); lanes they block are occluded whatever the traversal would meet first.
 template <int K, bool AnyHit, bool CollectStats, bool ZeroDir>
 RTT_FORCEINLINE TraversalResult<K, AnyHit> traverse_impl(const KdTree& tree,
                                                          std::span<const TriangleVerts> triangles,
                                                          const RayPacket<K>& rays, uint32_t in,
-                                                         PacketStats* stats) {
+                                                         PacketStats* stats,
+                                                         const BlockerCache* blockers) {
     using vf = vfloat<K>;
     using vb = vbool<K>;
     TraversalResult<K, AnyHit> result;
@@ -93,6 +97,17 @@ RTT_FORCEINLINE TraversalResult<K, AnyHit> traverse_impl(const KdTree& tree,
     const uint32_t above_first = ((signbits(dir.x) & in) != 0 ? 1u : 0u) |
                                  ((signbits(dir.y) & in) != 0 ? 2u : 0u) |
                                  ((signbits(dir.z) & in) != 0 ? 4u : 0u);
+    if constexpr (AnyHit) {
+        if (blockers) {
+            for (int c = 0; c < blockers->count; ++c) {
+                vf t;
+                result.occluded |= intersect_watertight<K, true>(
+                    wp, andnot(in_mask, result.occluded), blockers->tri[c], t);
+            }
+            if constexpr (CollectStats) stats->cached += uint64_t(popcount(result.occluded));
+            if ((movemask(result.occluded) & in) == in) return result;
+        }
+    }
 
     vf t0, t1, t_scale;
     clip_to_root<K>(padded_bounds(tree.bounds), orgv, dir, inv, wp.tmin, wp.tmax, t0, t1, t_scale);
@@ -199,6 +214,7 @@ RTT_FORCEINLINE TraversalResult<K, AnyHit> traverse_impl(const KdTree& tree,
             const vb hit = intersect_watertight<K, AnyHit>(wp, active, triangles[id], t);
             if constexpr (AnyHit) {
                 result.occluded |= hit;
+                result.blocker = movemask(hit) ? id : result.blocker;
                 active = andnot(active, hit);
                 if (none(active)) break;
             } else {
@@ -218,15 +234,18 @@ template <int K, bool AnyHit, bool CollectStats>
 RTT_FORCEINLINE TraversalResult<K, AnyHit> traverse(const KdTree& tree,
                                                     std::span<const TriangleVerts> triangles,
                                                     const RayPacket<K>& rays, uint32_t in,
-                                                    PacketStats* stats) {
+                                                    PacketStats* stats,
+                                                    const BlockerCache* blockers = nullptr) {
     using vf = vfloat<K>;
     const vf zero(0.f);
     const uint32_t zero_lanes =
         movemask((vf::load(rays.dir[0]) == zero) | (vf::load(rays.dir[1]) == zero) |
                  (vf::load(rays.dir[2]) == zero));
     if (zero_lanes & in) [[unlikely]]
-        return traverse_impl<K, AnyHit, CollectStats, true>(tree, triangles, rays, in, stats);
-    return traverse_impl<K, AnyHit, CollectStats, false>(tree, triangles, rays, in, stats);
+        return traverse_impl<K, AnyHit, CollectStats, true>(tree, triangles, rays, in, stats,
+                                                            blockers);
+    return traverse_impl<K, AnyHit, CollectStats, false>(tree, triangles, rays, in, stats,
+                                                         blockers);
 }
 
 /// Groups the lanes of `active` by the octant of their direction (sign bits of x, y, z) and
@@ -255,6 +274,7 @@ PacketStats& PacketStats::operator+=(const PacketStats& o) {
     leaves += o.leaves;
     tests += o.tests;
     test_lanes += o.test_lanes;
+    cached += o.cached;
     return *this;
 }
 
@@ -290,7 +310,8 @@ void trace_packet(const KdTree& tree, std::span<const TriangleVerts> triangles,
 
 template <int K>
 uint32_t occluded_packet(const KdTree& tree, std::span<const TriangleVerts> triangles,
-                         const RayPacket<K>& rays, uint32_t active, PacketStats* stats) {
+                         const RayPacket<K>& rays, uint32_t active, PacketStats* stats,
+                         BlockerCache* blockers) {
     if (tree.nodes.empty()) return 0;
     uint32_t occluded = 0;
     for_each_octant<K>(
@@ -300,10 +321,11 @@ uint32_t occluded_packet(const KdTree& tree, std::span<const TriangleVerts> tria
             if (stats) stats->single_rays += 1;
         },
         [&](uint32_t lanes) {
-            const vbool<K> hit =
-                stats ? traverse<K, true, true>(tree, triangles, rays, lanes, stats).occluded
-                      : traverse<K, true, false>(tree, triangles, rays, lanes, nullptr).occluded;
-            occluded |= movemask(hit) & lanes;
+            const TraversalResult<K, true> r =
+                stats ? traverse<K, true, true>(tree, triangles, rays, lanes, stats, blockers)
+                      : traverse<K, true, false>(tree, triangles, rays, lanes, nullptr, blockers);
+            occluded |= movemask(r.occluded) & lanes;
+            if (blockers && r.blocker != ~0u) blockers->note(r.blocker, triangles[r.blocker]);
         });
     return occluded;
 }
@@ -324,13 +346,14 @@ void trace_tile_packets(const KdTree& tree, std::span<const TriangleVerts> trian
 template <int K>
 uint64_t occluded_tile_packets(const KdTree& tree, std::span<const TriangleVerts> triangles,
                                const SegmentTile& tile, std::span<uint8_t> visible,
-                               PacketStats* stats) {
+                               PacketStats* stats, BlockerCache* blockers) {
     for (uint8_t& v : visible) v = 0;
     uint64_t count = 0;
     for_each_segment_block<K>(
         tile, [&](int s) { return tile.active[s] != 0; },
         [&](const RayPacket<K>& packet, uint32_t active, const int* sample) {
-            const uint32_t occluded = occluded_packet<K>(tree, triangles, packet, active, stats);
+            const uint32_t occluded =
+                occluded_packet<K>(tree, triangles, packet, active, stats, blockers);
             for (uint32_t b = active; b; b &= b - 1) {
                 const int lane = std::countr_zero(b);
                 visible[sample[lane]] = !((occluded >> lane) & 1u);
@@ -344,7 +367,8 @@ namespace {
 
 /// The packet tracers behind the Tracer interface: "packet" (K = 4, the paper's baseline),
 /// "packet8", "packet16"; and "frustum" (K = the widest), which traces a shaft tile whose rays
-/// share an origin as one large packet (trace_frustum.h), anything else as K-wide packets.
+/// share an origin as one large packet (trace_frustum.h), anything else as K-wide packets, its
+/// shadow packets with a BlockerCache.
 template <int K>
 class PacketTracer final : public Tracer {
 public:
@@ -364,7 +388,10 @@ public:
 
     void occluded(const SegmentTile& tile, std::span<uint8_t> visible,
                   const TraceContext& context) const override {
-        const uint64_t n = occluded_tile_packets<K>(tree_, triangles_, tile, visible);
+        // The paper's packet baselines stay plain (BlockerCache says why).
+        BlockerCache blockers;
+        const uint64_t n = occluded_tile_packets<K>(tree_, triangles_, tile, visible, nullptr,
+                                                    frustum_ ? &blockers : nullptr);
         record_traced_tile(n, context);
     }
 
@@ -389,12 +416,13 @@ std::unique_ptr<Tracer> make_frustum_tracer(const Scene& scene, const KdTree& tr
     template void trace_packet<K>(const KdTree&, std::span<const TriangleVerts>,              \
                                   const RayPacket<K>&, uint32_t, Hit*, PacketStats*);         \
     template uint32_t occluded_packet<K>(const KdTree&, std::span<const TriangleVerts>,       \
-                                         const RayPacket<K>&, uint32_t, PacketStats*);        \
+                                         const RayPacket<K>&, uint32_t, PacketStats*,         \
+                                         BlockerCache*);                                      \
     template void trace_tile_packets<K>(const KdTree&, std::span<const TriangleVerts>,        \
                                         const RayTile&, std::span<Hit>, PacketStats*);        \
     template uint64_t occluded_tile_packets<K>(const KdTree&, std::span<const TriangleVerts>, \
                                                const SegmentTile&, std::span<uint8_t>,        \
-                                               PacketStats*);                                 \
+                                               PacketStats*, BlockerCache*);                  \
     template std::unique_ptr<Tracer> make_packet_tracer<K>(const Scene&, const KdTree&);
 
 RTT_INSTANTIATE_PACKET(4)

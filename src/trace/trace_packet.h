@@ -19,6 +19,7 @@
 #include "rtt/math.h"
 #include "rtt/tracer.h"
 #include "simd/isa.h"
+#include "trace/blocker_cache.h"
 
 namespace rtt {
 inline namespace RTT_ISA_NS {
@@ -68,6 +69,7 @@ struct PacketStats {
     uint64_t leaves = 0;       ///< Leaves visited by packets.
     uint64_t tests = 0;        ///< K-wide triangle tests.
     uint64_t test_lanes = 0;   ///< Active lanes summed over those tests.
+    uint64_t cached = 0;       ///< Lanes a BlockerCache triangle blocked before traversal.
 
     PacketStats& operator+=(const PacketStats& o);
 };
@@ -82,9 +84,12 @@ void trace_packet(const KdTree& tree, std::span<const TriangleVerts> triangles,
 
 /// Lane bits of the active rays that meet a triangle within [tmin, tmax]:
 /// bit i == occluded_ray(tree, triangles, rays.get(i)) for i in `active`.
+/// With `blockers`, its triangles are tested first and the triangle that blocks a lane in the
+/// traversal is noted in it.
 template <int K>
 uint32_t occluded_packet(const KdTree& tree, std::span<const TriangleVerts> triangles,
-                         const RayPacket<K>& rays, uint32_t active, PacketStats* stats = nullptr);
+                         const RayPacket<K>& rays, uint32_t active, PacketStats* stats = nullptr,
+                         BlockerCache* blockers = nullptr);
 
 /// Closest hits of a whole tile, in packets of packet_width<K> x packet_height<K> samples
 /// (lanes past the tile's border are inactive). hits.size() == tile.rays.size().
@@ -94,11 +99,11 @@ void trace_tile_packets(const KdTree& tree, std::span<const TriangleVerts> trian
 
 /// Visibility of a tile's active shadow segments (shadow_ray(tile.light, point)), in packets
 /// as above: visible[i] = 1 when unoccluded, 0 when occluded or inactive. Returns the number
-/// of active segments.
+/// of active segments. `blockers` as in occluded_packet, carried from packet to packet.
 template <int K>
 uint64_t occluded_tile_packets(const KdTree& tree, std::span<const TriangleVerts> triangles,
                                const SegmentTile& tile, std::span<uint8_t> visible,
-                               PacketStats* stats = nullptr);
+                               PacketStats* stats = nullptr, BlockerCache* blockers = nullptr);
 
 }  // namespace RTT_ISA_NS
 }  // namespace rtt
