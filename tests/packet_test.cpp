@@ -273,6 +273,19 @@ TEST(PacketTracer, BlockerCacheKeepsTheLatestFirst) {
     for (int k = 0; k < c.count; ++k) EXPECT_EQ(c.tri[k].v0.x, float(c.id[k]));
 }
 
+TEST(PacketTracer, BlockerCachesAreKeptPerStructureAndLight) {
+    // A cache holds copies of one scene's triangles: another tracer must never see them.
+    const uint64_t a = new_blocker_owner(), b = new_blocker_owner();
+    ASSERT_NE(a, b);
+    const Vec3f l1{1.f, 2.f, 3.f}, l2{1.f, 2.f, 4.f};
+    BlockerCache& c = tile_blockers(a, l1);
+    c.note(7, TriangleVerts{});
+    EXPECT_EQ(&tile_blockers(a, l1), &c);
+    EXPECT_EQ(tile_blockers(a, l1).count, 1);
+    EXPECT_EQ(tile_blockers(b, l1).count, 0);
+    EXPECT_EQ(tile_blockers(a, l2).count, 0);
+}
+
 TEST(PacketTracer, RandomSoupMatchesBruteForce) {
     const Fixture f(soup(3000, 0.15f, Vec3f{0.f}, 21));
     Tally t;

@@ -246,7 +246,9 @@ public:
 
     void occluded(const SegmentTile& tile, std::span<uint8_t> visible,
                   const TraceContext& context) const override {
-        record_traced_tile(visible_bvh_segments(bvh_, tile, visible), context);
+        record_traced_tile(
+            visible_bvh_segments(bvh_, tile, visible, tile_blockers(blocker_owner_, tile.light)),
+            context);
     }
 
     void intersect_arbitrary(std::span<const Ray> rays, std::span<Hit> hits,
@@ -263,6 +265,7 @@ public:
 
 private:
     Bvh<W> bvh_;
+    const uint64_t blocker_owner_ = new_blocker_owner();
 };
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include "rtt/tracer.h"
 #include "simd/isa.h"
 #include "simd/simd.h"
+#include "trace/blocker_cache.h"
 
 namespace rtt {
 inline namespace RTT_ISA_NS {
@@ -78,10 +79,11 @@ template <int W>
 void trace_bvh_tile(const Bvh<W>& bvh, const RayTile& tile, std::span<Hit> hits);
 
 /// Whether each active segment of `tile` reaches its light (inactive ones: 0), in packets
-/// cut as trace_bvh_tile's; returns the number of active segments.
+/// cut as trace_bvh_tile's, each first tested against `blockers` (kept for the next packets and
+/// tiles); returns the number of active segments.
 template <int W>
 uint64_t visible_bvh_segments(const Bvh<W>& bvh, const SegmentTile& tile,
-                              std::span<uint8_t> visible);
+                              std::span<uint8_t> visible, BlockerCache& blockers);
 
 }  // namespace RTT_ISA_NS
 }  // namespace rtt

@@ -595,11 +595,10 @@ void trace_bvh_tile(const Bvh<W>& bvh, const RayTile& tile, std::span<Hit> hits)
 
 template <int W>
 uint64_t visible_bvh_segments(const Bvh<W>& bvh, const SegmentTile& tile,
-                              std::span<uint8_t> visible) {
+                              std::span<uint8_t> visible, BlockerCache& blockers) {
     uint64_t traced = 0;
     for (size_t i = 0; i < tile.points.size(); ++i) visible[i] = 0;
     const auto wanted = [&](int s) { return tile.active[size_t(s)] != 0; };
-    BlockerCache blockers;
     in_groups(
         [&](auto&& block) { for_each_segment_block<K>(tile, wanted, block); },
         [&](const RayPacket<K>* const* packet, const uint32_t* used, const int* const* sample) {
@@ -622,7 +621,7 @@ template void visible_bvh_packets<bvh_width>(const Bvh<bvh_width>&, std::span<co
                                              std::span<uint8_t>);
 template void trace_bvh_tile<bvh_width>(const Bvh<bvh_width>&, const RayTile&, std::span<Hit>);
 template uint64_t visible_bvh_segments<bvh_width>(const Bvh<bvh_width>&, const SegmentTile&,
-                                                  std::span<uint8_t>);
+                                                  std::span<uint8_t>, BlockerCache&);
 
 }  // namespace RTT_ISA_NS
 }  // namespace rtt
