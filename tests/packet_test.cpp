@@ -248,7 +248,9 @@ void report(const char* what, const Fixture& f, const Tally& t) {
     EXPECT_GT(t.hits, t.rays / 10);  // the scene is actually in view
     EXPECT_GT(t.visible, 0u);
     EXPECT_GT(t.segments, t.visible);  // some shadows
-    if (f.sound_tree) EXPECT_GT(t.cached, 0u) << "no lane was decided by a cached blocker";
+    if (f.sound_tree) {
+        EXPECT_GT(t.cached, 0u) << "no lane was decided by a cached blocker";
+    }
 }
 
 TEST(PacketTracer, RegisteredForEachBuiltWidth) {
@@ -271,19 +273,6 @@ TEST(PacketTracer, BlockerCacheKeepsTheLatestFirst) {
     ASSERT_EQ(BlockerCache::size, 4);
     EXPECT_EQ(ids(), (std::vector<uint32_t>{6, 5, 4, 1}));
     for (int k = 0; k < c.count; ++k) EXPECT_EQ(c.tri[k].v0.x, float(c.id[k]));
-}
-
-TEST(PacketTracer, BlockerCachesAreKeptPerStructureAndLight) {
-    // A cache holds copies of one scene's triangles: another tracer must never see them.
-    const uint64_t a = new_blocker_owner(), b = new_blocker_owner();
-    ASSERT_NE(a, b);
-    const Vec3f l1{1.f, 2.f, 3.f}, l2{1.f, 2.f, 4.f};
-    BlockerCache& c = tile_blockers(a, l1);
-    c.note(7, TriangleVerts{});
-    EXPECT_EQ(&tile_blockers(a, l1), &c);
-    EXPECT_EQ(tile_blockers(a, l1).count, 1);
-    EXPECT_EQ(tile_blockers(b, l1).count, 0);
-    EXPECT_EQ(tile_blockers(a, l2).count, 0);
 }
 
 TEST(PacketTracer, RandomSoupMatchesBruteForce) {

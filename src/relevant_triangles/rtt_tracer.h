@@ -260,7 +260,6 @@ private:
     mutable std::atomic<bool> bvh_built_{false};
     mutable std::atomic<uint64_t> loose_rays_{0};     ///< Spread rays of tiles that are no shaft.
     mutable std::atomic<uint64_t> declined_rays_{0};  ///< Rays of declined regions.
-    const uint64_t blocker_owner_ = new_blocker_owner();  ///< Its shadow tiles' BlockerCaches.
 };
 
 }  // namespace rtt_detail

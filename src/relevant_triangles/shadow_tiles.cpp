@@ -56,11 +56,13 @@ void RttTracer::occluded(const SegmentTile& tile, std::span<uint8_t> visible,
     } else if (!shaft_tile(tile.shaft, tile.width, tile.height, tile.points.size())) {
         const FallbackClock clock(st.fallback_ns);
         if (!tile.shaft && bvh_pays(loose_rays_, loose_rays_per_triangle, active_count)) {
-            visible_bvh_segments(bvh(), tile, visible, tile_blockers(blocker_owner_, tile.light));
+            BlockerCache blockers;
+            visible_bvh_segments(bvh(), tile, visible, blockers);
             st.bvh_rays += active_count;
         } else {
+            BlockerCache blockers;
             occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible, nullptr,
-                                                  &tile_blockers(blocker_owner_, tile.light));
+                                                  &blockers);
         }
         count_decline(st, Decline::no_shaft);
     } else {
@@ -89,7 +91,7 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
     Ray corners[4];
     int cs[4];
     Shaft shaft;
-    BlockerCache& blockers = tile_blockers(blocker_owner_, tile.light);
+    BlockerCache blockers;
     // The region of the answered segments: the shaft between the start and end offsets, and
     // on the light's side of the receiver plane. A segment L + t w, t <= tmax, of a point within
     // receiver_tol of the plane (checked per point: n.w + H >= -receiver_tol) has

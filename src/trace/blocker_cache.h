@@ -1,7 +1,6 @@
 // Triangles that blocked recent shadow rays, tried first on their neighbours.
 #pragma once
 
-#include <atomic>
 #include <cstdint>
 
 #include "geom/triangle.h"
@@ -10,8 +9,8 @@
 namespace rtt {
 inline namespace RTT_ISA_NS {
 
-/// Triangles that blocked the last shadow packets to a light, tested on the next packet's lanes
-/// before its traversal: neighbouring segments to one light are often blocked by the same
+/// Triangles that blocked the last shadow packets of a tile (one light), tested on the next
+/// packet's lanes before its traversal: neighbouring segments are often blocked by the same
 /// triangle (docs/benchmarks.md, "Shadow rays: blockers first"). Exact because occlusion is
 /// "some triangle's watertight test hits in [tmin, tmax]" and the kd-tree and BVH traversals
 /// find every such triangle: a lane a cached triangle blocks is occluded, only found sooner.
@@ -37,31 +36,6 @@ struct BlockerCache {
         tri[0] = t;
     }
 };
-
-/// A number for each structure whose blockers tile_blockers() keeps (never 0).
-inline uint64_t new_blocker_owner() {
-    static std::atomic<uint64_t> next{1};
-    return next.fetch_add(1, std::memory_order_relaxed);
-}
-
-/// The BlockerCache of `light` for `owner`, kept by this thread from one shadow tile to the
-/// next: the tiles of a light are neighbours too. A few lights per thread; others recycle.
-inline BlockerCache& tile_blockers(uint64_t owner, const Vec3f& light) {
-    struct Slot {
-        uint64_t owner = 0;
-        Vec3f light;
-        BlockerCache cache;
-    };
-    constexpr int slots = 8;
-    static thread_local Slot slot[slots];
-    static thread_local int next = 0;
-    for (Slot& s : slot)
-        if (s.owner == owner && s.light == light) return s.cache;
-    Slot& s = slot[next];
-    next = (next + 1) % slots;
-    s = Slot{owner, light, BlockerCache{}};
-    return s.cache;
-}
 
 }  // namespace RTT_ISA_NS
 }  // namespace rtt

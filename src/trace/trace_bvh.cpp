@@ -246,9 +246,8 @@ public:
 
     void occluded(const SegmentTile& tile, std::span<uint8_t> visible,
                   const TraceContext& context) const override {
-        record_traced_tile(
-            visible_bvh_segments(bvh_, tile, visible, tile_blockers(blocker_owner_, tile.light)),
-            context);
+        BlockerCache blockers;
+        record_traced_tile(visible_bvh_segments(bvh_, tile, visible, blockers), context);
     }
 
     void intersect_arbitrary(std::span<const Ray> rays, std::span<Hit> hits,
@@ -265,7 +264,6 @@ public:
 
 private:
     Bvh<W> bvh_;
-    const uint64_t blocker_owner_ = new_blocker_owner();
 };
 
 }  // namespace

@@ -79,8 +79,8 @@ template <int W>
 void trace_bvh_tile(const Bvh<W>& bvh, const RayTile& tile, std::span<Hit> hits);
 
 /// Whether each active segment of `tile` reaches its light (inactive ones: 0), in packets
-/// cut as trace_bvh_tile's, each first tested against `blockers` (kept for the next packets and
-/// tiles); returns the number of active segments.
+/// cut as trace_bvh_tile's, each first tested against `blockers` (which notes the blockers it
+/// finds for the next packets); returns the number of active segments.
 template <int W>
 uint64_t visible_bvh_segments(const Bvh<W>& bvh, const SegmentTile& tile,
                               std::span<uint8_t> visible, BlockerCache& blockers);

@@ -389,9 +389,9 @@ public:
     void occluded(const SegmentTile& tile, std::span<uint8_t> visible,
                   const TraceContext& context) const override {
         // The paper's packet baselines stay plain (BlockerCache says why).
-        const uint64_t n = occluded_tile_packets<K>(
-            tree_, triangles_, tile, visible, nullptr,
-            frustum_ ? &tile_blockers(blocker_owner_, tile.light) : nullptr);
+        BlockerCache blockers;
+        const uint64_t n = occluded_tile_packets<K>(tree_, triangles_, tile, visible, nullptr,
+                                                    frustum_ ? &blockers : nullptr);
         record_traced_tile(n, context);
     }
 
@@ -399,7 +399,6 @@ private:
     const KdTree& tree_;
     std::vector<TriangleVerts> triangles_;
     bool frustum_;
-    const uint64_t blocker_owner_ = new_blocker_owner();
 };
 
 }  // namespace
