@@ -16,7 +16,7 @@ ListOutcome RttTracer::list_walk(const RayTile& tile, PrimaryShaft& p) const {
     //    slope quad is grown): the whole tile is traced.
     //  * When they first lie on several planes, R's slab end narrows only, and inner rays are
     //    answered within the slab (an object's silhouette over a wall: nearly all of them).
-    //    Measured in docs/benchmarks.md, "The lean corner pass at K = 2".
+    //    Measured in docs/benchmarks.md, "RTT: where it pays".
     const int n = int(tile.rays.size());
     CornerResult& res = tls_corners;
     ShaftRegion walk_region(p.shaft, tree_.bounds, p.shaft.start_lo, pos_inf);

@@ -81,8 +81,8 @@ inline constexpr double loose_rays_per_triangle = 10.0;
 /// build over what it saves per such ray (docs/benchmarks.md, "RTT's fallback").
 inline constexpr double declined_rays_per_triangle = 30.0;
 // The budgets and the lean pass's extent are RttOptions (include/rtt/rtt_options.h); the
-// defaults there were measured in docs/benchmarks.md ("The lean corner pass at K = 2", "What an
-// answered tile costs"). Cost rules, not exactness ones.
+// defaults there were measured in docs/benchmarks.md ("RTT: where it pays", "Regions", "RTT's
+// fallback"). Cost rules, not exactness ones.
 /// Whether a primary or reflected shaft tile of n samples whose corners are `corners` takes the
 /// lean pass. Reflected tiles start on their mirror plane, not at the apex, and the corners'
 /// intervals part at the first splits near it: at K = 2 the walk answers 3x more of their rays

@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "geom/triangle.h"
+#include "geom/triangle_simd.h"
 #include "simd/isa.h"
 
 namespace rtt {
@@ -36,6 +37,18 @@ struct BlockerCache {
         tri[0] = t;
     }
 };
+
+/// The lanes of `lanes` that a triangle of `blockers` blocks, by the traversals' own test.
+template <int K>
+RTT_FORCEINLINE vbool<K> blocked_by(const BlockerCache& blockers, const WatertightPacket<K>& wp,
+                                    vbool<K> lanes) {
+    vbool<K> blocked(false);
+    for (int c = 0; c < blockers.count; ++c) {
+        vfloat<K> t;
+        blocked |= intersect_watertight<K>(wp, andnot(lanes, blocked), blockers.tri[c], t);
+    }
+    return blocked;
+}
 
 }  // namespace RTT_ISA_NS
 }  // namespace rtt

@@ -201,6 +201,13 @@ private:
     }
 };
 
+/// The vertices of lane l's triangle of a leaf block.
+RTT_FORCEINLINE TriangleVerts triangle_of(const BvhTriangles4& q, int l) {
+    return {{q.v0[0][l], q.v0[1][l], q.v0[2][l]},
+            {q.v1[0][l], q.v1[1][l], q.v1[2][l]},
+            {q.v2[0][l], q.v2[1][l], q.v2[2][l]}};
+}
+
 /// Starts loading a child the packet will visit: a node's four cache lines, or a leaf's first
 /// block (the node's fetch is what a packet step waits on).
 template <int W>
@@ -261,12 +268,9 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays* const* rays, PacketHi
             bool done = true;
             for (int m = 0; m < M; ++m) {
                 Part& p = part[m];
-                for (int c = 0; c < blockers->count; ++c) {
-                    vf t;
-                    const vb hit = intersect_watertight<K>(p.wp, p.alive, blockers->tri[c], t);
-                    blocked[m] |= hit;
-                    p.alive = andnot(p.alive, hit);
-                }
+                const vb hit = blocked_by(*blockers, p.wp, p.alive);
+                blocked[m] |= hit;
+                p.alive = andnot(p.alive, hit);
                 done &= none(p.alive);
             }
             if (done) return;
@@ -332,19 +336,13 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays* const* rays, PacketHi
                                                           at(2, 0), at(2, 1), at(2, 2)};
                             hit = intersect_watertight_relative<K>(p.wp, lanes[m], rel, t);
                         } else {
-                            const TriangleVerts tri{{q.v0[0][l], q.v0[1][l], q.v0[2][l]},
-                                                    {q.v1[0][l], q.v1[1][l], q.v1[2][l]},
-                                                    {q.v2[0][l], q.v2[1][l], q.v2[2][l]}};
-                            hit = intersect_watertight<K>(p.wp, lanes[m], tri, t);
+                            hit = intersect_watertight<K>(p.wp, lanes[m], triangle_of(q, l), t);
                         }
                         if constexpr (AnyHit) {
                             blocked[m] |= hit;
                             lanes[m] = andnot(lanes[m], hit);
                             p.alive = andnot(p.alive, hit);
-                            if (blockers && any(hit))
-                                blockers->note(id, {{q.v0[0][l], q.v0[1][l], q.v0[2][l]},
-                                                    {q.v1[0][l], q.v1[1][l], q.v1[2][l]},
-                                                    {q.v2[0][l], q.v2[1][l], q.v2[2][l]}});
+                            if (blockers && any(hit)) blockers->note(id, triangle_of(q, l));
                         } else {
                             // inclusive tmax: a later equal-t hit still reaches the index
                             // tie-break

@@ -99,11 +99,7 @@ RTT_FORCEINLINE TraversalResult<K, AnyHit> traverse_impl(const KdTree& tree,
                                  ((signbits(dir.z) & in) != 0 ? 4u : 0u);
     if constexpr (AnyHit) {
         if (blockers) {
-            for (int c = 0; c < blockers->count; ++c) {
-                vf t;
-                result.occluded |= intersect_watertight<K, true>(
-                    wp, andnot(in_mask, result.occluded), blockers->tri[c], t);
-            }
+            result.occluded = blocked_by(*blockers, wp, in_mask);
             if constexpr (CollectStats) stats->cached += uint64_t(popcount(result.occluded));
             if ((movemask(result.occluded) & in) == in) return result;
         }
