@@ -1,6 +1,6 @@
 // RTT against 4-wide packets on the same camera rays: every answer must be the same, bit for
 // bit; the times show what RTT saves. The image goes to the tracers as the renderer hands it
-// over: regions of R x R pixels (rtt::default_region(K): 16 pixels at K = 1, 8 from K = 2 to 8),
+// over: regions of R x R pixels (rtt::default_region(K): 32 pixels at K = 1, 8 from K = 2 to 8),
 // each tried by RTT as one shaft.
 #include <rtt/camera.h>
 #include <rtt/kdtree.h>

@@ -403,7 +403,7 @@ TEST(Render, RegionSizeDoesNotChangeAnything) {
     EXPECT_THROW(render(f.scene, *f.tracer, o), Error);
     o.region = 260;
     EXPECT_THROW(render(f.scene, *f.tracer, o), Error);
-    EXPECT_EQ(default_region(1), 16);
+    EXPECT_EQ(default_region(1), 32);
     EXPECT_EQ(default_region(2), 8);
     EXPECT_EQ(default_region(3), 8);
     EXPECT_EQ(default_region(6), 8);

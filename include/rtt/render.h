@@ -29,7 +29,7 @@ inline constexpr int max_reflection_depth = 64;
 inline constexpr int max_render_threads = 1024;
 /// Largest region side (pixels) accepted by RenderOptions::region.
 inline constexpr int max_region = 256;
-/// The default region side for K x K antialiasing: 16 pixels at K = 1, 8 pixels from K = 2 to 8
+/// The default region side for K x K antialiasing: 32 pixels at K = 1, 8 pixels from K = 2 to 8
 /// (16 to 64 samples a side), the 4x4-pixel tile above (docs/benchmarks.md, "Regions").
 int default_region(int aa);
 

@@ -72,7 +72,7 @@ void AnswerMaps::validate(const RenderOptions& options, size_t light_count) cons
 }
 
 int default_region(int aa) {
-    return aa == 1 ? 16 : aa <= 8 ? 8 : 4;
+    return aa == 1 ? 32 : aa <= 8 ? 8 : 4;
 }
 
 int RenderOptions::region_pixels() const {

@@ -150,7 +150,7 @@ ExperimentResult run_answers(const BenchConfig& config, SceneCache& scenes) {
     r.id = "answers";
     r.title = "What an answered ray costs: rtt on the tiles it answers, beside the limit";
     std::fprintf(config.log, "\n== %s\n", r.title.c_str());
-    const int w = config.quick() ? 128 : 1024, h = config.quick() ? 96 : 768;
+    const int w = config.quick() ? 256 : 1024, h = config.quick() ? 192 : 768;
     TextTable t;
     t.title = "ns per answered ray (" + size_label(w, h) + ", 1 thread, CPU time, median of " +
               std::to_string(config.repetitions) + ")";

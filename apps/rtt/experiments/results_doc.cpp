@@ -59,7 +59,7 @@ std::string results_markdown(const ResultsDocument& doc, const std::string& mark
 
     s += "## How it was measured\n\n"
          "Every tracer answers exactly the same rays: the renderer's batches, regions of R x R "
-         "pixels (RK x RK samples, shaft = true; R = 16 at K = 1, 8 from K = 2 to 8, 4 above "
+         "pixels (RK x RK samples, shaft = true; R = 32 at K = 1, 8 from K = 2 to 8, 4 above "
          "unless `--region` says otherwise) and, per region and light, the shadow segments from "
          "the hit points "
          "of the 4-wide packet tracer (active where the light can light the point, as in the "
