@@ -374,7 +374,7 @@ void add_render_command(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--region", job->region,
                     "Pixels per side of the regions handed to the tracer as one tile (a multiple "
-                    "of 4 up to 256; 0 = about 256 samples: 16 at K=1, 8 at K=2, else 4). RTT "
+                    "of 4 up to 256; 0 = 32 at K=1, 8 from K=2 to 8, else 4). RTT "
                     "tries a region as one shaft; results do not depend on it")
         ->capture_default_str();
     cmd->add_option("--light", job->lights,
