@@ -11,10 +11,11 @@
 // One tracing thread. Counter Mrays = million rays (active segments) per CPU second of that
 // thread (Google Benchmark's rate; steadier than wall time on a shared machine).
 //
-// Split/... runs rtt, packet and the widest packets on two halves of the same frame: the tiles rtt
-// answers from a relevant list (at least one ray answered) and the tiles it declines (all traced),
-// so that what an answered tile costs can be set beside what tracing it costs (docs/benchmarks.md,
-// "What an answered tile costs"). Counter tiles = tiles of that half per frame.
+// Split/... runs rtt, packet, the widest packets and bvh (rtt's fallback for declined camera
+// regions) on two halves of the same frame: the tiles rtt answers from a relevant list (at least
+// one ray answered) and the tiles it declines (all traced), so that what an answered tile costs
+// can be set beside what tracing it costs (docs/benchmarks.md, "What each goal needs"). Counter
+// tiles = tiles of that half per frame.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -255,6 +256,7 @@ int main(int argc, char** argv) {
             break;
         }
     split_kinds.push_back("rtt");
+    split_kinds.push_back("bvh");
     for (const std::string& kind : split_kinds)
         for (const bool shadows : {false, true})
             for (const bool answered : {true, false}) {
