@@ -237,7 +237,7 @@ def test_camera_hits_and_visible_match_cli_buffers(tmp_path, rtt_cli, aa):
     stats = tracer.last_stats
     tx, ty = (w + 3) // 4, (h + 3) // 4  # padded to whole 4x4-pixel tiles, as the renderer does
     tiles = tx * ty
-    r = 4 if aa == 1 else 2 if aa <= 8 else 1  # tiles per region side (the renderer's default)
+    r = 8 if aa == 1 else 2 if aa <= 8 else 1  # tiles per region side (the renderer's default)
     regions = -(-tx // r) * -(-ty // r)
     assert stats["tiles"] == regions and stats["rays"] == tiles * 16 * aa * aa
     assert stats["rays"] == stats["traced"] + stats["answered"]
