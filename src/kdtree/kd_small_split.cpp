@@ -68,15 +68,22 @@ SplitChoice kd_find_small_split(std::span<const TriBox> items, const Bbox3f& box
     constexpr float nan = std::numeric_limits<float>::quiet_NaN();
     for (int a = 0; a < 3; ++a) {
         size_t m = 0, flats = 0;
+        // A start at the node's lower face or an end at its upper face (what clipping leaves
+        // on most straddlers) puts every triangle on one side but the flat ones, whose own
+        // events are candidates: such a plane makes no progress (AxisCost), so it is skipped.
+        const float face_lo = box.lo[a], face_hi = box.hi[a];
         for (size_t i = 0; i < n; ++i) {
             lo[i] = items[i].box.lo[a] + 0.f;  // + 0: -0 becomes 0, as in the events
             hi[i] = items[i].box.hi[a] + 0.f;
             const bool is_flat = hi[i] == lo[i];  // a flat triangle has one event
-            cand[m++] = lo[i];
-            if (!is_flat) cand[m++] = hi[i];
+            cand[m] = lo[i];  // written always, kept by the count: no branch to mispredict
+            m += is_flat || lo[i] != face_lo;
+            cand[m] = hi[i];
+            m += !is_flat && hi[i] != face_hi;
             flat[i] = is_flat ? lo[i] : nan;
             flats += is_flat;
         }
+        if (m == 0) continue;
         const size_t padded = (m + lanes - 1) / lanes * lanes;
         for (size_t c = m; c < padded; ++c) cand[c] = cand[0];
         if (flats > 0)
