@@ -13,29 +13,43 @@ set -u
 # build, "server already running" in the probing server's log). flock waits for the other.
 exec 9>"${TMPDIR:-/tmp}/rtt-headless.lock"
 flock 9
-work=$(mktemp -d)
-Xvfb -displayfd 3 -screen 0 640x480x24 -nolisten tcp -ac 3>"$work/display" 2>"$work/errors" 9>&- &
-server=$!
+# Starts a server; sets `server`, `work` and `display`, or returns 1 with its messages printed.
+start_server() {
+  work=$(mktemp -d)
+  Xvfb -displayfd 3 -screen 0 640x480x24 -nolisten tcp -ac 3>"$work/display" 2>"$work/errors" 9>&- &
+  server=$!
+  display=""
+  for _ in $(seq 600); do  # up to 30 s: a sanitizer build under load starts slowly
+    display=$(tr -dc 0-9 <"$work/display")
+    [ -n "$display" ] && return 0
+    kill -0 "$server" 2>/dev/null || break
+    sleep 0.05
+  done
+  echo "headless.sh: Xvfb did not start:" >&2
+  cat "$work/errors" >&2
+  stop_server
+  return 1
+}
 stop_server() {
   kill "$server" 2>/dev/null
   wait "$server" 2>/dev/null
   rm -rf "$work"
 }
-display=""
-for _ in $(seq 600); do  # up to 30 s: a sanitizer build under load starts slowly
-  display=$(tr -dc 0-9 <"$work/display")
-  [ -n "$display" ] && break
-  kill -0 "$server" 2>/dev/null || break
-  sleep 0.05
+# A failure while the server is gone is the server's, not the command's (a CI run once had a
+# viewer fail to open the display it was given): the command runs again on a new server, at
+# most three times. A failure with the server still up is the command's and is returned.
+for attempt in 1 2 3; do
+  start_server || exit 1
+  DISPLAY=":$display" "$@" 9>&-
+  rc=$?
+  if [ "$rc" -ne 0 ] && ! kill -0 "$server" 2>/dev/null && [ "$attempt" -lt 3 ]; then
+    echo "headless.sh: the X server on :$display exited under the command; again:" >&2
+    cat "$work/errors" >&2
+    stop_server
+    continue
+  fi
+  break
 done
-if [ -z "$display" ]; then
-  echo "headless.sh: Xvfb did not start:" >&2
-  cat "$work/errors" >&2
-  stop_server
-  exit 1
-fi
-DISPLAY=":$display" "$@" 9>&-
-rc=$?
 [ "$rc" -eq 0 ] || { echo "headless.sh: Xvfb's messages:"; cat "$work/errors"; } >&2
 stop_server
 exit "$rc"
