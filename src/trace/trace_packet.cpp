@@ -181,8 +181,8 @@ RTT_FORCEINLINE TraversalResult<K, AnyHit> traverse_impl(const KdTree& tree,
             const vb visit_second = not_greater(active, lo, tb);
             if (any(visit_first)) {
                 if (any(visit_second)) {
-                    // Loaded by the time the stack returns to it: on caches other work filled,
-                    // as in a renderer, that saved 3-20 % (docs/benchmarks.md, "Packet tracer").
+                    // Loaded by the time the stack returns to it: it pays on caches other work
+                    // filled, as in a renderer (docs/benchmarks.md, "Packet tracer").
                     __builtin_prefetch(second);
                     push(second, second_lo, tb, visit_second);
                 }
