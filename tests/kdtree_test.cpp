@@ -904,17 +904,19 @@ TEST(KdTree, BuildDoesNotDependOnTriangleOrder) {
     ASSERT_EQ(a.nodes.size(), b.nodes.size());
     EXPECT_EQ(std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(KdNode)), 0);
     const uint32_t last = uint32_t(scene.triangles.size() - 1);
+    // A leaf's list in `tree`, its indices mapped through `to_scene` and sorted.
+    const auto list = [](const KdTree& tree, const KdNode& leaf, auto to_scene) {
+        const auto first = tree.leaf_triangles.begin() + leaf.first_triangle();
+        std::vector<uint32_t> ids(first, first + leaf.triangle_count());
+        for (uint32_t& t : ids) t = to_scene(t);
+        std::sort(ids.begin(), ids.end());
+        return ids;
+    };
     size_t differing_lists = 0;
-    for (const KdNode& node : a.nodes) {
-        if (!node.is_leaf()) continue;
-        const auto first = a.leaf_triangles.begin() + node.first_triangle();
-        std::vector<uint32_t> from_a(first, first + node.triangle_count());
-        const auto first_b = b.leaf_triangles.begin() + node.first_triangle();
-        std::vector<uint32_t> from_b(first_b, first_b + node.triangle_count());
-        for (uint32_t& t : from_b) t = last - t;
-        std::sort(from_b.begin(), from_b.end());
-        differing_lists += from_a != from_b;
-    }
+    for (const KdNode& node : a.nodes)
+        if (node.is_leaf())
+            differing_lists += list(a, node, [](uint32_t t) { return t; }) !=
+                               list(b, node, [&](uint32_t t) { return last - t; });
     EXPECT_EQ(differing_lists, 0u);
 }
 
