@@ -130,7 +130,7 @@ void shadow_frame(const Tracer& tracer, const Workload& w, std::span<uint8_t> vi
 /// Traversal counters of one frame traced with packets of K (primary or shadow).
 template <int K>
 PacketStats frame_stats(const Workload& w, bool shadows) {
-    const std::vector<TriangleVerts> tris = gather_triangles(w.scene);
+    const TriangleArray tris = gather_triangles(w.scene);
     std::vector<Hit> hits(tile_rays);
     std::vector<uint8_t> visible(tile_rays);
     PacketStats st;

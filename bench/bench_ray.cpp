@@ -27,7 +27,7 @@ constexpr int width = 1024, height = 768;
 struct Workload {
     Scene scene = kdbench::bumpy_sphere(256, 256);
     KdTree tree = build_kdtree(scene);
-    std::vector<TriangleVerts> triangles = gather_triangles(scene);
+    TriangleArray triangles = gather_triangles(scene);
     std::vector<Ray> rays[2];
 
     Workload() {

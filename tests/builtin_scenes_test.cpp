@@ -212,7 +212,7 @@ TEST(BuiltinScenes, RoomHasOneLargePlanarMirrorInView) {
     EXPECT_GT(area, 1.5);  // square metres
 
     // The default view shows it: a coarse grid of primary rays hits it often.
-    const std::vector<TriangleVerts> verts = gather_triangles(s);
+    const TriangleArray verts = gather_triangles(s);
     const int w = 24, h = 18;
     const CameraRays cam(*s.camera, w, h, 1);
     int hits = 0;

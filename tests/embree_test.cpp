@@ -310,7 +310,7 @@ void expect_agreement(const std::vector<Checked>& checked, const std::string& wh
 
 /// Camera tiles of 4K x 4K samples (48 x 32 pixels, K = 1 and 2) from four cameras.
 void check_scene(const Scene& scene, double max_tie_fraction) {
-    const std::vector<TriangleVerts> tris = gather_triangles(scene);
+    const TriangleArray tris = gather_triangles(scene);
     const std::vector<Vec3f> lights = lights_for(scene);
     std::vector<Checked> checked = embree_tracers(scene);
     for (const Camera& cam : cameras_for(scene, 11))
@@ -352,7 +352,7 @@ TEST(Embree, PartialBlocksAndInactiveLanes) {
     Scene scene;
     add_grid(scene, 2, 0.f, -1.f, 1.f, 2);  // 8 triangles on z = 0, no edge at x = +-0.5
     const KdTree no_tree;
-    const std::vector<TriangleVerts> tris = gather_triangles(scene);
+    const TriangleArray tris = gather_triangles(scene);
     const int w = 7, h = 5;
     std::vector<Ray> rays;
     for (int y = 0; y < h; ++y)
@@ -437,7 +437,7 @@ TEST(Embree, AgreesOnGridWalls) {
 TEST(Embree, RaysAimedAtEdgesAndVertices) {
     if (!has_embree()) GTEST_SKIP() << "built without Embree";
     const Scene scene = sphere_scene();
-    const std::vector<TriangleVerts> tris = gather_triangles(scene);
+    const TriangleArray tris = gather_triangles(scene);
     const std::vector<Vec3f> lights = lights_for(scene);
     std::vector<Checked> checked = embree_tracers(scene);
     std::vector<Ray> rays;

@@ -26,7 +26,7 @@ namespace {
 struct Fixture {
     Scene scene;
     KdTree tree;
-    std::vector<TriangleVerts> triangles;
+    TriangleArray triangles;
     std::unique_ptr<Tracer> frustum;
     size_t oracle_stride = 1;  ///< Brute force for every n-th ray (big scenes: > 1).
 

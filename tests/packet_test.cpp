@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -28,7 +29,7 @@ namespace {
 struct Fixture {
     Scene scene;
     KdTree tree;
-    std::vector<TriangleVerts> triangles;
+    TriangleArray triangles;
     std::vector<std::unique_ptr<Tracer>> packet_tracers;  // "packet", "packet8", "packet16"
     size_t oracle_stride = 1;  ///< Brute force for every n-th sample of a tile (big scenes: > 1).
     bool sound_tree = true;    ///< Every triangle in every leaf it meets (BlockerCache's premise).
@@ -346,7 +347,7 @@ TEST(PacketTracer, ClosedSphereFarFromOriginIsWatertight) {
 
 /// A deliberately broken kd-tree: median splits of triangle centroids, each triangle in the one
 /// leaf holding its centroid, so triangles that straddle a split are missing on one side.
-void build_centroid_tree(KdTree& tree, const std::vector<TriangleVerts>& tris,
+void build_centroid_tree(KdTree& tree, std::span<const TriangleVerts> tris,
                          std::vector<uint32_t> ids, int depth) {
     const uint32_t index = uint32_t(tree.nodes.size());
     tree.nodes.emplace_back();

@@ -124,7 +124,7 @@ struct Fixture {
     Scene scene;
     KdTree tree;
     std::unique_ptr<Tracer> tracer;
-    std::vector<TriangleVerts> triangles;
+    TriangleArray triangles;
 
     explicit Fixture(Scene s) : scene(std::move(s)) {
         tracer = make_tracer("brute", scene, tree);

@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/large_arrays.h"
 #include "core/platform.h"
 #include "rtt/math.h"
 #include "rtt/scene.h"
@@ -27,8 +28,13 @@ struct TriangleVerts {
     Vec3f v0, v1, v2;
 };
 
+/// A scene's vertex triples on huge pages: a tracer's copy of a large scene is tens of MB, and
+/// as a plain vector each of its 4 KiB pages faulted anew for every tracer made
+/// (docs/benchmarks.md, "First image").
+using TriangleArray = large_vector<TriangleVerts>;
+
 /// Vertex triples of every triangle of the scene, in triangle-index order.
-std::vector<TriangleVerts> gather_triangles(const Scene& scene);
+TriangleArray gather_triangles(const Scene& scene);
 
 /// Per-ray constants of the watertight test: axis permutation and shear.
 struct WatertightRay {

@@ -255,7 +255,7 @@ KdTree build_kdtree(const Scene& scene, const KdBuildConfig& config) {
     check_input(scene);
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
-    const std::vector<TriangleVerts> triangles = gather_triangles(scene);
+    const TriangleArray triangles = gather_triangles(scene);
     const size_t n = triangles.size();
 
     KdTree tree;

@@ -240,7 +240,7 @@ private:
                             SampleBits& need) const;
 
     const KdTree& tree_;
-    std::vector<TriangleVerts> triangles_;
+    TriangleArray triangles_;
     PlaneIds planes_;
     PlaneNormals normals_;
     /// Nodes the shaft walk (walk.h) and the paper's culling of deferred nodes may enter

@@ -5,6 +5,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "geom/plane_id.h"
@@ -65,7 +66,7 @@ struct FacingPlane {
 /// double), so a tile orients its end plane with one dot product.
 class PlaneNormals {
 public:
-    PlaneNormals(const std::vector<TriangleVerts>& triangles, const PlaneIds& planes) {
+    PlaneNormals(std::span<const TriangleVerts> triangles, const PlaneIds& planes) {
         normals_.reserve(planes.representative.size());
         for (const uint32_t r : planes.representative) {
             const TriangleVerts& t = triangles[r];

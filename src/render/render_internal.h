@@ -43,7 +43,7 @@ struct RenderContext {
     const Tracer& tracer;
     const RenderOptions& options;
     AnswerMaps maps;
-    std::vector<TriangleVerts> triangles;
+    TriangleArray triangles;
     std::vector<LightInfo> lights;
     float reflect_epsilon = 0.f;  ///< tmin of packed reflected rays (scene-scaled).
 };

@@ -48,7 +48,7 @@ public:
     }
 
 private:
-    std::vector<TriangleVerts> triangles_;
+    TriangleArray triangles_;
 };
 
 }  // namespace

@@ -398,7 +398,7 @@ public:
 
 private:
     const KdTree& tree_;
-    std::vector<TriangleVerts> triangles_;
+    TriangleArray triangles_;
     bool frustum_;
 };
 

@@ -149,7 +149,7 @@ public:
 
 private:
     const KdTree& tree_;
-    std::vector<TriangleVerts> triangles_;
+    TriangleArray triangles_;
 };
 
 }  // namespace
