@@ -1,16 +1,17 @@
-// Binned SAH over triangle centroids (up to 16 bins per axis, fewer in small nodes), a binary tree
-// first, then collapsed to W children per node by opening the largest child until W are there.
-// Large nodes bin and split in parallel; every subtree owns a fixed range of binary-node slots
-// (BinaryBuilder::split) and of references, so tasks share nothing and the tree is the same for any
-// number of threads.
+// Binned SAH over triangle centroids (up to 16 bins per axis, fewer in small nodes), W children
+// per node made at once by opening the largest child until W are there (WideBuilder). Large nodes
+// bin in parallel and the subtrees under them are built in parallel on disjoint ranges of
+// references, then laid out in a fixed order, so the tree is the same for any number of threads.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <vector>
 
 #include "bvh/bvh.h"
 #include "rtt/error.h"
@@ -31,12 +32,6 @@ constexpr float traversal_cost = 1.f, intersection_cost = 2.f;
 constexpr int sah_depth = 64;
 /// Below this many references a node's work stays on one thread.
 constexpr uint32_t parallel_refs = 16384;
-
-struct BinaryNode {
-    Bbox3f box;
-    uint32_t left = 0, right = 0;   // children (inner nodes)
-    uint32_t first = 0, count = 0;  // leaf: range of refs (count > 0)
-};
 
 /// A box as two vectors (x, y, z, -): what every pass of the build extends and compares.
 struct Box4 {
@@ -143,9 +138,27 @@ T reduce_range(uint32_t first, uint32_t end, F&& f, M&& merge) {
         });
 }
 
-class BinaryBuilder {
+/// A node's references [first, end) and their extent, with its split decided when it is made:
+/// a leaf, the boundary below bin `bin` along `axis`, or (axis -1, not a leaf) halves.
+struct Range {
+    uint32_t first = 0, end = 0;
+    int depth = 0;
+    Extent ext;
+    bool leaf = false;
+    int axis = -1, bin = 0;
+    uint32_t size() const { return end - first; }
+};
+
+/// Builds the W-wide tree directly: a node's range is split in two by binned SAH, and the child
+/// with the largest surface that is not a leaf split again until W children are there, each
+/// range split once. Nodes over at least parallel_refs references are made first, on the
+/// calling thread (their binning in parallel); the subtrees under them are built as tasks, in
+/// parallel, and placed after them in the order the tasks were found, so the layout does not
+/// depend on the thread count.
+template <int W>
+class WideBuilder {
 public:
-    explicit BinaryBuilder(std::span<const TriangleVerts> tris) : refs_(tris.size()) {
+    explicit WideBuilder(std::span<const TriangleVerts> tris) : tris_(tris), refs_(tris.size()) {
         tbb::parallel_for(tbb::blocked_range<size_t>(0, tris.size(), 4096),
                           [&](const tbb::blocked_range<size_t>& r) {
                               for (size_t i = r.begin(); i < r.end(); ++i) {
@@ -161,24 +174,224 @@ public:
                           });
     }
 
-    /// The binary tree; node 0 is the root. Slots of refs that ended in a leaf early stay unused.
-    large_vector<BinaryNode> build() {
-        nodes_.resize(2 * refs_.size() - 1);
-        const Extent root = reduce_range<Extent>(
-            0, uint32_t(refs_.size()),
+    Bvh<W> build() {
+        Bvh<W> out;
+        Range root{0, uint32_t(refs_.size())};
+        root.ext = reduce_range<Extent>(
+            0, root.end,
             [&](uint32_t lo, uint32_t hi) {
                 Extent e;
                 for (uint32_t i = lo; i < hi; ++i) e.add(refs_[i]);
                 return e;
             },
             [](Extent& a, const Extent& b) { a.merge(b); });
-        split(0, 0, uint32_t(refs_.size()), 0, root);
-        return std::move(nodes_);
+        decide(root);
+        out.padded_bounds = padded_bounds(root.ext.box.box());
+        out.blocks.reserve(refs_.size() / 2);
+        out.nodes.emplace_back();
+        if (root.leaf) {  // the whole scene is one leaf: a root with one leaf child
+            BvhNode<W>& r = out.nodes[0];
+            r.count = 1;
+            for (int a = 0; a < 3; ++a)
+                for (int i = 0; i < W; ++i) {
+                    r.lo[a][i] = i == 0 ? root.ext.box.lo[a] : pos_inf;
+                    r.hi[a][i] = i == 0 ? root.ext.box.hi[a] : neg_inf;
+                }
+            r.child[0] = leaf_child(root, out);
+            return out;
+        }
+        std::vector<Task> tasks;
+        make_node(root, 0, out, &tasks);
+        build_tasks(tasks, out);
+        return out;
     }
-    /// The references in leaf order: a leaf [first, first + count) lists refs [first, ...).
-    const large_vector<PrimRef>& refs() const { return refs_; }
 
 private:
+    /// A subtree left for later: its range, and the child slot of its parent node.
+    struct Task {
+        Range range;
+        uint32_t parent;
+        int slot;
+    };
+
+    /// Decides r's split: binned SAH over its centroids (16 bins, fewer in small nodes).
+    void decide(Range& r) const {
+        const uint32_t n = r.size();
+        if (n <= 2) {
+            r.leaf = true;
+            return;
+        }
+        const Extent& ext = r.ext;
+        float best_cost = intersection_cost * blocks_of(n);
+        const BinMap map(ext.centroids, bins_for(n));
+        // Past sah_depth only halves: the tree (and the traversal's stack) stays shallow
+        // whatever the input (bvh_max_depth).
+        if (r.depth < sah_depth) {
+            const Bins all = bin_all(r.first, r.end, map);
+            const float parent = ext.box.half_area();
+            for (int a = 0; a < 3; ++a) {
+                if (!(ext.centroids.hi[a] - ext.centroids.lo[a] > 0.f)) continue;
+                const auto& bb = all.box[size_t(a)];
+                const auto& bc = all.count[size_t(a)];
+                // Sweep: areas and counts to the right of each boundary, then to the left.
+                std::array<float, max_bins> right_area{};
+                std::array<uint32_t, max_bins> right_count{};
+                Box4 rb;
+                uint32_t rc = 0;
+                for (int b = map.n - 1; b > 0; --b) {
+                    rb.extend(bb[size_t(b)]);
+                    rc += bc[size_t(b)];
+                    right_area[size_t(b)] = rb.empty() ? 0.f : rb.half_area();
+                    right_count[size_t(b)] = rc;
+                }
+                Box4 lb;
+                uint32_t lc = 0;
+                for (int b = 1; b < map.n; ++b) {
+                    lb.extend(bb[size_t(b - 1)]);
+                    lc += bc[size_t(b - 1)];
+                    if (lc == 0 || right_count[size_t(b)] == 0) continue;
+                    const float cost =
+                        traversal_cost +
+                        intersection_cost *
+                            (lb.half_area() * blocks_of(lc) +
+                             right_area[size_t(b)] * blocks_of(right_count[size_t(b)])) /
+                            parent;
+                    if (cost < best_cost) {
+                        best_cost = cost;
+                        r.axis = a;
+                        r.bin = b;
+                    }
+                }
+            }
+        }
+        // No useful split (centroids coincide) or too deep: a leaf if it may be one, else halves.
+        r.leaf = r.axis < 0 && n <= bvh_leaf_max;
+    }
+
+    /// Splits the inner range r as decided into `left` and `right`, and decides theirs.
+    void open(const Range& r, Range& left, Range& right) {
+        const uint32_t first = r.first, end = r.end, n = r.size();
+        uint32_t mid;
+        left = Range{};
+        right = Range{};
+        if (r.axis >= 0) {
+            mid = partition(first, end, BinMap(r.ext.centroids, bins_for(n)), r.axis, r.bin,
+                            left.ext, right.ext);
+        } else {  // halves by centroid order
+            const vfloat4 d = r.ext.centroids.hi - r.ext.centroids.lo;
+            const int a = d[0] >= d[1] ? (d[0] >= d[2] ? 0 : 2) : (d[1] >= d[2] ? 1 : 2);
+            mid = first + n / 2;
+            std::nth_element(refs_.begin() + first, refs_.begin() + mid, refs_.begin() + end,
+                             [&](const PrimRef& x, const PrimRef& y) {
+                                 const float cx = x.centroid2()[a], cy = y.centroid2()[a];
+                                 return cx < cy || (cx == cy && x.id() < y.id());
+                             });
+            for (uint32_t i = first; i < mid; ++i) left.ext.add(refs_[i]);
+            for (uint32_t i = mid; i < end; ++i) right.ext.add(refs_[i]);
+        }
+        left.first = first;
+        left.end = right.first = mid;
+        right.end = end;
+        left.depth = right.depth = r.depth + 1;
+        if (n >= parallel_refs)
+            tbb::parallel_invoke([&] { decide(left); }, [&] { decide(right); });
+        else {
+            decide(left);
+            decide(right);
+        }
+    }
+
+    /// The children of the inner range r: its two halves, then the largest inner child opened
+    /// until there are W. Returns how many.
+    int children(const Range& r, Range* kids) {
+        open(r, kids[0], kids[1]);
+        int n = 2;
+        while (n < W) {
+            int pick = -1;
+            float area = -1.f;
+            for (int i = 0; i < n; ++i) {
+                const float a = kids[i].ext.box.half_area();
+                if (!kids[i].leaf && a > area) {
+                    area = a;
+                    pick = i;
+                }
+            }
+            if (pick < 0) break;
+            const Range opened = kids[pick];
+            open(opened, kids[pick], kids[n++]);
+        }
+        return n;
+    }
+
+    /// Writes the node over the inner range r at out.nodes[index] and, below it, every subtree:
+    /// at once, or those under parallel_refs references as `tasks` (when not null).
+    void make_node(const Range& r, uint32_t index, Bvh<W>& out, std::vector<Task>* tasks) {
+        Range kids[W];
+        const int n = children(r, kids);
+        BvhNode<W> node{};
+        node.count = uint32_t(n);
+        for (int i = 0; i < W; ++i)
+            for (int a = 0; a < 3; ++a) {
+                node.lo[a][i] = i < n ? kids[i].ext.box.lo[a] : pos_inf;
+                node.hi[a][i] = i < n ? kids[i].ext.box.hi[a] : neg_inf;
+            }
+        bool now[W] = {};
+        for (int i = 0; i < n; ++i) {
+            if (kids[i].leaf) {
+                node.child[i] = leaf_child(kids[i], out);
+            } else if (tasks && kids[i].size() < parallel_refs) {
+                tasks->push_back({kids[i], index, i});
+            } else {
+                node.child[i] = uint32_t(out.nodes.size());
+                out.nodes.emplace_back();
+                now[i] = true;
+            }
+        }
+        out.nodes[index] = node;
+        for (int i = 0; i < n; ++i)
+            if (now[i]) make_node(kids[i], node.child[i], out, tasks);
+    }
+
+    /// Builds the tasks' subtrees after out's nodes and blocks, in task order: in parallel into
+    /// arrays of their own, then moved into place, or on one thread straight into out.
+    void build_tasks(const std::vector<Task>& tasks, Bvh<W>& out) {
+        const auto subtree = [&](const Task& t, Bvh<W>& into) {
+            const uint32_t root = uint32_t(into.nodes.size());
+            into.nodes.emplace_back();
+            make_node(t.range, root, into, nullptr);
+            return root;
+        };
+        if (tbb::this_task_arena::max_concurrency() == 1 || tasks.size() < 2) {
+            for (const Task& t : tasks) {
+                const uint32_t root = subtree(t, out);
+                out.nodes[t.parent].child[t.slot] = root;
+            }
+            return;
+        }
+        std::vector<Bvh<W>> parts(tasks.size());
+        tbb::parallel_for(size_t(0), tasks.size(), [&](size_t i) { subtree(tasks[i], parts[i]); });
+        std::vector<uint32_t> node_at(tasks.size() + 1), block_at(tasks.size() + 1);
+        node_at[0] = uint32_t(out.nodes.size());
+        block_at[0] = uint32_t(out.blocks.size());
+        for (size_t i = 0; i < tasks.size(); ++i) {
+            node_at[i + 1] = node_at[i] + uint32_t(parts[i].nodes.size());
+            block_at[i + 1] = block_at[i] + uint32_t(parts[i].blocks.size());
+        }
+        out.nodes.resize(node_at.back());
+        out.blocks.resize(block_at.back());
+        tbb::parallel_for(size_t(0), tasks.size(), [&](size_t i) {
+            const Bvh<W>& p = parts[i];
+            std::copy(p.blocks.begin(), p.blocks.end(), out.blocks.begin() + block_at[i]);
+            for (size_t k = 0; k < p.nodes.size(); ++k) {
+                BvhNode<W> node = p.nodes[k];
+                for (uint32_t c = 0; c < node.count; ++c)
+                    node.child[c] += node.child[c] & bvh_leaf_bit ? block_at[i] << 3 : node_at[i];
+                out.nodes[node_at[i] + k] = node;
+            }
+            out.nodes[tasks[i].parent].child[tasks[i].slot] = node_at[i];
+        });
+    }
+
     Bins bin_all(uint32_t first, uint32_t end, const BinMap& map) const {
         return reduce_range<Bins>(
             first, end,
@@ -213,161 +426,34 @@ private:
         }
     }
 
-    // Node `index` over refs [first, end) with extent `ext`: a leaf, or split by the cheapest
-    // bin boundary. Its subtree owns the slots [index, index + 2 (end - first) - 1): the left
-    // child's subtree starts at index + 1, the right one's at index + 2 (mid - first).
-    void split(uint32_t index, uint32_t first, uint32_t end, int depth, const Extent& ext) {
-        nodes_[index].box = ext.box.box();
-        const uint32_t n = end - first;
-        const auto make_leaf = [&] {
-            nodes_[index].first = first;
-            nodes_[index].count = n;
-        };
-        if (n <= 2) return make_leaf();
-        int best_axis = -1, best_bin = 0;
-        float best_cost = intersection_cost * blocks_of(n);
-        const BinMap map(ext.centroids, bins_for(n));
-        // Past sah_depth only halves: the tree (and the traversal's stack) stays shallow
-        // whatever the input (bvh_max_depth).
-        if (depth < sah_depth) {
-            const Bins all = bin_all(first, end, map);
-            const float parent = ext.box.half_area();
-            for (int a = 0; a < 3; ++a) {
-                if (!(ext.centroids.hi[a] - ext.centroids.lo[a] > 0.f)) continue;
-                const auto& bb = all.box[size_t(a)];
-                const auto& bc = all.count[size_t(a)];
-                // Sweep: areas and counts to the right of each boundary, then to the left.
-                std::array<float, max_bins> right_area{};
-                std::array<uint32_t, max_bins> right_count{};
-                Box4 r;
-                uint32_t rc = 0;
-                for (int b = map.n - 1; b > 0; --b) {
-                    r.extend(bb[size_t(b)]);
-                    rc += bc[size_t(b)];
-                    right_area[size_t(b)] = r.empty() ? 0.f : r.half_area();
-                    right_count[size_t(b)] = rc;
+    /// The leaf child of range r: its triangles appended to out's blocks, four to a block.
+    uint32_t leaf_child(const Range& r, Bvh<W>& out) const {
+        const uint32_t block = uint32_t(out.blocks.size()), count = r.size();
+        const uint32_t blocks = (count + 3) / 4;
+        for (uint32_t b = 0; b < blocks; ++b) {
+            BvhTriangles4 q{};
+            for (uint32_t l = 0; l < 4; ++l) {
+                const uint32_t k = b * 4 + l;
+                const uint32_t id = k < count ? refs_[r.first + k].id() : invalid_triangle;
+                const TriangleVerts& t = tris_[k < count ? id : refs_[r.first].id()];
+                for (int a = 0; a < 3; ++a) {
+                    q.v0[a][l] = t.v0[a];
+                    q.v1[a][l] = t.v1[a];
+                    q.v2[a][l] = t.v2[a];
                 }
-                Box4 l;
-                uint32_t lc = 0;
-                for (int b = 1; b < map.n; ++b) {
-                    l.extend(bb[size_t(b - 1)]);
-                    lc += bc[size_t(b - 1)];
-                    if (lc == 0 || right_count[size_t(b)] == 0) continue;
-                    const float cost =
-                        traversal_cost +
-                        intersection_cost *
-                            (l.half_area() * blocks_of(lc) +
-                             right_area[size_t(b)] * blocks_of(right_count[size_t(b)])) /
-                            parent;
-                    if (cost < best_cost) {
-                        best_cost = cost;
-                        best_axis = a;
-                        best_bin = b;
-                    }
-                }
+                q.id[l] = id;
             }
+            out.blocks.push_back(q);
         }
-        uint32_t mid;
-        Extent left, right;
-        if (best_axis >= 0) {
-            mid = partition(first, end, map, best_axis, best_bin, left, right);
-        } else if (n <= bvh_leaf_max) {
-            return make_leaf();
-        } else {  // no useful split (centroids coincide) or too deep: halves by centroid order
-            const vfloat4 d = ext.centroids.hi - ext.centroids.lo;
-            const int a = d[0] >= d[1] ? (d[0] >= d[2] ? 0 : 2) : (d[1] >= d[2] ? 1 : 2);
-            mid = first + n / 2;
-            std::nth_element(refs_.begin() + first, refs_.begin() + mid, refs_.begin() + end,
-                             [&](const PrimRef& x, const PrimRef& y) {
-                                 const float cx = x.centroid2()[a], cy = y.centroid2()[a];
-                                 return cx < cy || (cx == cy && x.id() < y.id());
-                             });
-            for (uint32_t i = first; i < mid; ++i) left.add(refs_[i]);
-            for (uint32_t i = mid; i < end; ++i) right.add(refs_[i]);
-        }
-        const uint32_t li = index + 1, ri = index + 2 * (mid - first);
-        nodes_[index].left = li;
-        nodes_[index].right = ri;
-        if (n >= parallel_refs)
-            tbb::parallel_invoke([&] { split(li, first, mid, depth + 1, left); },
-                                 [&] { split(ri, mid, end, depth + 1, right); });
-        else {
-            split(li, first, mid, depth + 1, left);
-            split(ri, mid, end, depth + 1, right);
-        }
+        return bvh_leaf_bit | (block << 3) | blocks;
     }
 
     // Leaves test four triangles at once: the SAH counts blocks of four.
     static float blocks_of(uint32_t n) { return float((n + 3) / 4); }
 
+    std::span<const TriangleVerts> tris_;
     large_vector<PrimRef> refs_;
-    large_vector<BinaryNode> nodes_;
 };
-
-// The leaf child of refs [first, first + count): its triangles appended as blocks of four.
-template <int W>
-uint32_t leaf_child(std::span<const TriangleVerts> tris, std::span<const PrimRef> refs,
-                    uint32_t first, uint32_t count, Bvh<W>& out) {
-    const uint32_t block = uint32_t(out.blocks.size()), blocks = (count + 3) / 4;
-    for (uint32_t b = 0; b < blocks; ++b) {
-        BvhTriangles4 q{};
-        for (uint32_t l = 0; l < 4; ++l) {
-            const uint32_t k = b * 4 + l;
-            const uint32_t id = k < count ? refs[first + k].id() : invalid_triangle;
-            const TriangleVerts& t = tris[k < count ? id : refs[first].id()];
-            for (int a = 0; a < 3; ++a) {
-                q.v0[a][l] = t.v0[a];
-                q.v1[a][l] = t.v1[a];
-                q.v2[a][l] = t.v2[a];
-            }
-            q.id[l] = id;
-        }
-        out.blocks.push_back(q);
-    }
-    return bvh_leaf_bit | (block << 3) | blocks;
-}
-
-// Writes the W-wide node for binary node `b` (an inner node) at `out.nodes[index]`.
-template <int W>
-void collapse(std::span<const TriangleVerts> tris, std::span<const PrimRef> refs,
-              const large_vector<BinaryNode>& bin, uint32_t b, uint32_t index, Bvh<W>& out) {
-    std::array<uint32_t, W> kids{bin[b].left, bin[b].right};
-    uint32_t n = 2;
-    while (n < W) {  // open the inner child with the largest surface
-        int open = -1;
-        float area = -1.f;
-        for (uint32_t i = 0; i < n; ++i)
-            if (bin[kids[i]].count == 0 && bin[kids[i]].box.half_area() > area) {
-                area = bin[kids[i]].box.half_area();
-                open = int(i);
-            }
-        if (open < 0) break;
-        const BinaryNode& o = bin[kids[size_t(open)]];
-        kids[size_t(open)] = o.left;
-        kids[n++] = o.right;
-    }
-    BvhNode<W> node{};
-    node.count = n;
-    for (uint32_t i = 0; i < W; ++i)
-        for (int a = 0; a < 3; ++a) {
-            node.lo[a][i] = i < n ? bin[kids[i]].box.lo[a] : pos_inf;
-            node.hi[a][i] = i < n ? bin[kids[i]].box.hi[a] : neg_inf;
-        }
-    std::array<uint32_t, W> inner{};
-    for (uint32_t i = 0; i < n; ++i) {
-        const BinaryNode& k = bin[kids[i]];
-        if (k.count > 0) {
-            node.child[i] = leaf_child(tris, refs, k.first, k.count, out);
-        } else {
-            inner[i] = uint32_t(out.nodes.size());
-            node.child[i] = inner[i];
-            out.nodes.emplace_back();
-        }
-    }
-    out.nodes[index] = node;
-    for (uint32_t i = 0; i < n; ++i)
-        if (bin[kids[i]].count == 0) collapse(tris, refs, bin, kids[i], inner[i], out);
-}
 
 }  // namespace
 
@@ -375,27 +461,8 @@ template <int W>
 Bvh<W> build_bvh(std::span<const TriangleVerts> triangles) {
     if (triangles.size() >= bvh_max_triangles)
         throw Error("the bvh tracer takes at most 134,217,727 triangles");
-    Bvh<W> out;
-    if (triangles.empty()) return out;
-    BinaryBuilder builder(triangles);
-    const large_vector<BinaryNode> bin = builder.build();
-    out.padded_bounds = padded_bounds(bin[0].box);
-    const std::span<const PrimRef> refs = builder.refs();
-    out.blocks.reserve(triangles.size() / 2);
-    out.nodes.emplace_back();
-    if (bin[0].count > 0) {  // the whole scene is one leaf: a root with one leaf child
-        BvhNode<W>& root = out.nodes[0];
-        root.count = 1;
-        for (int a = 0; a < 3; ++a)
-            for (int i = 0; i < W; ++i) {
-                root.lo[a][i] = i == 0 ? bin[0].box.lo[a] : pos_inf;
-                root.hi[a][i] = i == 0 ? bin[0].box.hi[a] : neg_inf;
-            }
-        root.child[0] = leaf_child(triangles, refs, 0, bin[0].count, out);
-        return out;
-    }
-    collapse(triangles, refs, bin, 0, 0, out);
-    return out;
+    if (triangles.empty()) return {};
+    return WideBuilder<W>(triangles).build();
 }
 
 template Bvh<4> build_bvh<4>(std::span<const TriangleVerts>);
