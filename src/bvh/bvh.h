@@ -1,5 +1,5 @@
-// Bounding volume hierarchies for arbitrary rays (the "bvh" tracer, trace_bvh.cpp): a binned-SAH
-// binary tree collapsed to W children per node (4 for SSE kernels, 8 for AVX2 and AVX-512).
+// Bounding volume hierarchies for arbitrary rays (the "bvh" tracer, trace_bvh.cpp): binned SAH,
+// W children per node (4 for SSE kernels, 8 for AVX2 and AVX-512).
 // Each triangle is listed once, in one leaf; node boxes are the exact bounds of what is under
 // them. docs/design.md, "The BVH for arbitrary rays", says why the traversal's box margins keep
 // it exact.
@@ -34,7 +34,7 @@ struct alignas(64) BvhTriangles4 {
 inline constexpr uint32_t bvh_leaf_bit = 0x80000000u;
 inline constexpr uint32_t bvh_leaf_max = 16;             ///< Triangles per leaf, at most.
 inline constexpr uint32_t bvh_max_triangles = 1u << 27;  ///< What a leaf child can address.
-/// Depth of the binary tree at most (SAH to depth 64, halves below): 64 + log2(2^27).
+/// Binary splits on a path at most (SAH to depth 64, halves below): 64 + log2(2^27).
 inline constexpr int bvh_max_depth = 64 + 27;
 
 template <int W>
