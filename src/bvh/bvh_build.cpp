@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <memory>
 #include <vector>
 
 #include "bvh/bvh.h"
@@ -151,10 +152,10 @@ struct Range {
 
 /// Builds the W-wide tree directly: a node's range is split in two by binned SAH, and the child
 /// with the largest surface that is not a leaf split again until W children are there, each
-/// range split once. Nodes over at least parallel_refs references are made first, on the
-/// calling thread (their binning in parallel); the subtrees under them are built as tasks, in
-/// parallel, and placed after them in the order the tasks were found, so the layout does not
-/// depend on the thread count.
+/// range split once. Nodes over at least parallel_refs references are planned first, sibling
+/// subtrees in parallel (plan), then laid out depth first (place); the subtrees under them are
+/// built as tasks, in parallel, and placed after them in the order the tasks were found, so
+/// the layout does not depend on the thread count.
 template <int W>
 class WideBuilder {
 public:
@@ -201,7 +202,7 @@ public:
             return out;
         }
         std::vector<Task> tasks;
-        make_node(root, 0, out, &tasks);
+        place(*plan(root), 0, out, tasks);
         build_tasks(tasks, out);
         return out;
     }
@@ -323,33 +324,71 @@ private:
         return n;
     }
 
-    /// Writes the node over the inner range r at out.nodes[index] and, below it, every subtree:
-    /// at once, or those under parallel_refs references as `tasks` (when not null).
-    void make_node(const Range& r, uint32_t index, Bvh<W>& out, std::vector<Task>* tasks) {
+    /// The children of a node of at least parallel_refs references (or the root), and the
+    /// plans of those children that are that large too: made in parallel, laid out afterwards.
+    struct TopNode {
         Range kids[W];
-        const int n = children(r, kids);
+        int n = 0;
+        std::unique_ptr<TopNode> below[W];
+    };
+
+    /// Splits the inner range r and, in parallel, its large inner children (disjoint ranges).
+    std::unique_ptr<TopNode> plan(const Range& r) {
+        auto top = std::make_unique<TopNode>();
+        top->n = children(r, top->kids);
+        tbb::parallel_for(0, top->n, [&](int i) {
+            const Range& k = top->kids[i];
+            if (!k.leaf && k.size() >= parallel_refs) top->below[i] = plan(k);
+        });
+        return top;
+    }
+
+    /// The node with children kids[0, n) at out.nodes[index]: leaf children appended, the inner
+    /// children that `now` accepts given the next slots (the others left for the caller).
+    /// Returns which children got slots.
+    template <typename Now>
+    uint32_t write_node(const Range* kids, int n, uint32_t index, Bvh<W>& out, Now&& now) {
         BvhNode<W> node{};
         node.count = uint32_t(n);
+        uint32_t slotted = 0;
         for (int i = 0; i < W; ++i)
             for (int a = 0; a < 3; ++a) {
                 node.lo[a][i] = i < n ? kids[i].ext.box.lo[a] : pos_inf;
                 node.hi[a][i] = i < n ? kids[i].ext.box.hi[a] : neg_inf;
             }
-        bool now[W] = {};
         for (int i = 0; i < n; ++i) {
             if (kids[i].leaf) {
                 node.child[i] = leaf_child(kids[i], out);
-            } else if (tasks && kids[i].size() < parallel_refs) {
-                tasks->push_back({kids[i], index, i});
-            } else {
+            } else if (now(i)) {
                 node.child[i] = uint32_t(out.nodes.size());
                 out.nodes.emplace_back();
-                now[i] = true;
+                slotted |= 1u << i;
             }
         }
         out.nodes[index] = node;
+        return slotted;
+    }
+
+    /// Lays out the planned nodes under `top` from out.nodes[index] on, depth first; the
+    /// subtrees below them become `tasks` (their slots patched when built).
+    void place(const TopNode& top, uint32_t index, Bvh<W>& out, std::vector<Task>& tasks) {
+        const uint32_t slotted =
+            write_node(top.kids, top.n, index, out, [&](int i) { return bool(top.below[i]); });
+        for (int i = 0; i < top.n; ++i) {
+            if ((slotted >> i) & 1u)
+                place(*top.below[i], out.nodes[index].child[i], out, tasks);
+            else if (!top.kids[i].leaf)
+                tasks.push_back({top.kids[i], index, i});
+        }
+    }
+
+    /// Writes the subtree over the inner range r from out.nodes[index] on, depth first.
+    void make_node(const Range& r, uint32_t index, Bvh<W>& out) {
+        Range kids[W];
+        const int n = children(r, kids);
+        const uint32_t slotted = write_node(kids, n, index, out, [](int) { return true; });
         for (int i = 0; i < n; ++i)
-            if (now[i]) make_node(kids[i], node.child[i], out, tasks);
+            if ((slotted >> i) & 1u) make_node(kids[i], out.nodes[index].child[i], out);
     }
 
     /// Builds the tasks' subtrees after out's nodes and blocks, in task order: in parallel into
@@ -358,7 +397,7 @@ private:
         const auto subtree = [&](const Task& t, Bvh<W>& into) {
             const uint32_t root = uint32_t(into.nodes.size());
             into.nodes.emplace_back();
-            make_node(t.range, root, into, nullptr);
+            make_node(t.range, root, into);
             return root;
         };
         if (tbb::this_task_arena::max_concurrency() == 1 || tasks.size() < 2) {
