@@ -33,6 +33,12 @@ struct TriangleVerts {
 /// (docs/benchmarks.md, "First image").
 using TriangleArray = large_vector<TriangleVerts>;
 
+/// The vertices of the scene's triangle i.
+inline TriangleVerts triangle_verts(const Scene& scene, size_t i) {
+    const TriangleIndices& t = scene.triangles[i];
+    return {scene.vertices[t[0]], scene.vertices[t[1]], scene.vertices[t[2]]};
+}
+
 /// Vertex triples of every triangle of the scene, in triangle-index order.
 TriangleArray gather_triangles(const Scene& scene);
 

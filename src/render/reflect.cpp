@@ -35,12 +35,12 @@ Vec3f reflect(const Vec3f& dir, const Vec3f& n) {
 /// Builds the planar-shaft reflected tile; false when the tile does not qualify.
 bool build_shaft_batch(const RenderContext& ctx, const RayBatch& parent, std::span<const Hit> hits,
                        RayBatch& child) {
-    const Plane plane = triangle_plane(ctx.triangles[hits[0].tri]);
+    const Plane plane = triangle_plane(triangle_verts(ctx.scene, hits[0].tri));
     if (!is_finite(plane.n) || !std::isfinite(plane.d)) return false;
     float t_min = pos_inf, t_max = 0.f;
     for (const Hit& h : hits) {
         if (h.tri != hits[0].tri) {
-            const Plane q = triangle_plane(ctx.triangles[h.tri]);
+            const Plane q = triangle_plane(triangle_verts(ctx.scene, h.tri));
             if (!(q.n == plane.n) || !(q.d == plane.d)) return false;
         }
         t_min = std::min(t_min, h.t);

@@ -43,7 +43,6 @@ struct RenderContext {
     const Tracer& tracer;
     const RenderOptions& options;
     AnswerMaps maps;
-    TriangleArray triangles;
     std::vector<LightInfo> lights;
     float reflect_epsilon = 0.f;  ///< tmin of packed reflected rays (scene-scaled).
 };

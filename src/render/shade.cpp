@@ -35,7 +35,7 @@ Plane triangle_plane(const TriangleVerts& tri) {
 
 RenderContext make_context(const Scene& scene, const Tracer& tracer, const RenderOptions& options,
                            const AnswerMaps& maps) {
-    RenderContext ctx{scene, tracer, options, maps, gather_triangles(scene), {}, 0.f};
+    RenderContext ctx{scene, tracer, options, maps, {}, 0.f};
     for (const Light& l : scene.lights) {
         LightInfo info;
         info.light = &l;
@@ -62,8 +62,8 @@ RenderContext make_context(const Scene& scene, const Tracer& tracer, const Rende
 SurfacePoint surface_at(const RenderContext& ctx, const Ray& ray, const Hit& hit) {
     SurfacePoint s;
     s.p = ray.org + hit.t * ray.dir;
-    const TriangleVerts& tri = ctx.triangles[hit.tri];
     const Scene& scene = ctx.scene;
+    const TriangleVerts tri = triangle_verts(scene, hit.tri);
     s.material = &scene.materials[scene.triangle_material[hit.tri]];
     const Vec3f e1 = tri.v1 - tri.v0, e2 = tri.v2 - tri.v0;
     const Vec3f c = cross(e1, e2);
