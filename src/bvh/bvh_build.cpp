@@ -191,14 +191,7 @@ public:
         out.blocks.reserve(refs_.size() / 2);
         out.nodes.emplace_back();
         if (root.leaf) {  // the whole scene is one leaf: a root with one leaf child
-            BvhNode<W>& r = out.nodes[0];
-            r.count = 1;
-            for (int a = 0; a < 3; ++a)
-                for (int i = 0; i < W; ++i) {
-                    r.lo[a][i] = i == 0 ? root.ext.box.lo[a] : pos_inf;
-                    r.hi[a][i] = i == 0 ? root.ext.box.hi[a] : neg_inf;
-                }
-            r.child[0] = leaf_child(root, out);
+            write_node(&root, 1, 0, out, [](int) { return true; });
             return out;
         }
         std::vector<Task> tasks;
