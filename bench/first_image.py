@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
-"""The first image as a user gets it: one fresh `rtt render --stats` process per sample.
+"""The first image as a user gets it: one fresh `rtt render` process per sample.
 
 For each scene and tracer kind, runs `rtt render --scene S --tracer T --size WxH --threads 1
---stats` REPS times, each in a process of its own (so every build pays for fresh memory, as a
-user's first image does), and reads from its statistics the kd-tree build, the tracer's setup and
-the render's wall time. Their sum is the first image; the table gives the median of each part
+--stats-json F` REPS times, each in a process of its own (so every build pays for fresh memory, as
+a user's first image does), and reads from F the kd-tree build, the tracer's setup and the
+render's wall time. Their sum is the first image; the table gives the median of each part
 and Embree MEDIUM's first image over each kind's (above 1: the kind is faster). `rtt bench
 embree` times the same parts inside one warm process; docs/benchmarks.md, "First image", has both.
 
@@ -12,32 +12,32 @@ embree` times the same parts inside one warm process; docs/benchmarks.md, "First
                          [scenes ...]        # default: room office plants
 """
 import argparse
+import json
 import os
-import re
 import statistics
 import subprocess
 import sys
 import tempfile
 
-HEAD = re.compile(r"(kd-tree (?:built|loaded) in ([0-9.]+) s|no kd-tree); "
-                  r"tracer \S+ \(set up in ([0-9.]+) s\)")
-WALL = re.compile(r"render wall time ([0-9.]+) s")
 
-
-def first_image(rtt, scene, kind, size, out):
-    """Seconds of one fresh render: (kd-tree, tracer setup, render wall)."""
+def first_image(rtt, scene, kind, size, tmp):
+    """Seconds of one fresh render, from its --stats-json: (kd-tree, tracer setup, render wall)."""
+    stats = os.path.join(tmp, "stats.json")
     cmd = [rtt, "render", "--scene", scene, "--tracer", kind, "--size", size, "--threads", "1",
-           "--stats", "--quiet", "-o", out]
+           "--quiet", "--stats-json", stats, "-o", os.path.join(tmp, "image.png")]
     try:
         run = subprocess.run(cmd, capture_output=True, text=True, check=False)
     except OSError as e:
         sys.exit(f"first_image: cannot run {rtt}: {e.strerror}")
     if run.returncode != 0:
         sys.exit(f"first_image: {' '.join(cmd)} failed: {run.stderr.strip()}")
-    head, wall = HEAD.search(run.stdout), WALL.search(run.stdout)
-    if not head or not wall:
-        sys.exit(f"first_image: no statistics in the output of {' '.join(cmd)}")
-    return float(head.group(2) or 0.0), float(head.group(3)), float(wall.group(1))
+    try:
+        with open(stats, encoding="utf-8") as f:
+            j = json.load(f)
+        kd = j["kd_build_seconds"] if j["kd_tree_used"] else 0.0
+        return float(kd), float(j["tracer_build_seconds"]), float(j["wall_seconds"])
+    except (OSError, ValueError, KeyError) as e:
+        sys.exit(f"first_image: no statistics from {' '.join(cmd)}: {e}")
 
 
 def main():
@@ -54,12 +54,11 @@ def main():
     print(f"first image, fresh process each, 1 thread, {args.size}, median of {args.reps}; "
           "seconds: kd-tree + setup + render = total, MEDIUM's total / this total")
     with tempfile.TemporaryDirectory() as tmp:
-        out = os.path.join(tmp, "image.png")
         for scene in args.scenes:
             runs = {k: [] for k in kinds}
             for _ in range(args.reps):  # kinds alternate, so a busy moment hits all alike
                 for k in kinds:
-                    runs[k].append(first_image(args.rtt, scene, k, args.size, out))
+                    runs[k].append(first_image(args.rtt, scene, k, args.size, tmp))
             med = {k: [statistics.median(part) for part in zip(*runs[k])] for k in kinds}
             totals = {k: statistics.median(sum(r) for r in runs[k]) for k in kinds}
             base = totals.get("embree-medium")
