@@ -18,6 +18,7 @@
 #include "render/progress.h"
 #include "rtt/error.h"
 #include "rtt/io.h"
+#include "rtt/tracer.h"
 
 namespace rtt {
 namespace {
@@ -215,13 +216,29 @@ TEST(Outputs, CameraPathRendersNumberedFramesLikeSingleRenders) {
               "# three cameras\n1,1.6,4.5,3,1.2,0,0,1,0,60\n\n2,1.6,4.5,3,1.2,0,0,1,0,60\n"
               "3,1.6,4.5,3,1.2,0,0,1,0,50\n");
     const std::string common = "render --scene room --size 24x16 -q ";
-    const auto r = run_cli(dir, common + "--camera-path path.txt -o f_%03d.png --hits h_%03d.rtth");
+    const auto r = run_cli(dir, common +
+                                    "--camera-path path.txt -o f_%03d.png --hits h_%03d.rtth "
+                                    "--stats-json s_%d.json");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const auto one =
         run_cli(dir, common + "--camera 2,1.6,4.5,3,1.2,0,0,1,0,60 -o one.png --hits one.rtth");
     ASSERT_EQ(one.exit_code, 0) << one.err;
     EXPECT_EQ(read_text(dir.file("f_001.png")), read_text(dir.file("one.png")));
     EXPECT_EQ(read_text(dir.file("h_001.rtth")), read_text(dir.file("one.rtth")));
+    const std::vector<std::string> kinds = tracer_kinds();
+    if (std::count(kinds.begin(), kinds.end(), "bvh") &&
+        std::count(kinds.begin(), kinds.end(), "rtt")) {
+        // The default (`auto`) traced frame 0 with bvh and the next ones with rtt; the single
+        // render above was bvh's, and the frames are the same bit for bit.
+        const auto tracer_of = [&](const char* file) {
+            const std::string json = read_text(dir.file(file));
+            const size_t at = json.find("\"tracer\": \"");
+            return at == std::string::npos ? json : json.substr(at + 11, 3);
+        };
+        EXPECT_EQ(tracer_of("s_0.json"), "bvh");
+        EXPECT_EQ(tracer_of("s_1.json"), "rtt");
+        EXPECT_EQ(tracer_of("s_2.json"), "rtt");
+    }
     EXPECT_NE(read_text(dir.file("f_000.png")), read_text(dir.file("f_001.png")));
     EXPECT_TRUE(std::filesystem::exists(dir.file("f_002.png")));
     // Names without a frame number, other '%' directives, bad lines: errors before any work.

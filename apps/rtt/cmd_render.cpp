@@ -117,6 +117,18 @@ std::string default_tracer_kind() {
     return kinds.empty() ? "ray" : kinds.front();
 }
 
+bool has_auto_tracer() {
+    const std::vector<std::string> kinds = tracer_kinds();
+    const auto has = [&](const char* k) {
+        return std::find(kinds.begin(), kinds.end(), k) != kinds.end();
+    };
+    return has("bvh") && has("rtt");
+}
+
+std::string default_render_tracer() {
+    return has_auto_tracer() ? std::string(auto_tracer) : default_tracer_kind();
+}
+
 namespace {
 
 /// Writes one frame's outputs (names from the job's patterns) through `outputs`.
@@ -204,8 +216,11 @@ RenderJobResult run_render_job(const RenderJob& job) {
     const bool camera_index =
         !job.camera.empty() && job.camera.find_first_not_of("0123456789") == std::string::npos;
     if (!job.camera.empty() && !camera_index) camera = parse_camera(job.camera);
-    const std::string tracer_kind = job.tracer.empty() ? default_tracer_kind() : job.tracer;
-    check_tracer_kind(tracer_kind);
+    const std::string requested = job.tracer.empty() ? default_render_tracer() : job.tracer;
+    const bool auto_kind = requested == auto_tracer;
+    if (auto_kind && !has_auto_tracer())
+        throw Error("--tracer auto needs the bvh and rtt kinds, which this build lacks");
+    if (!auto_kind) check_tracer_kind(requested);
     opt.hits_buffer = !job.hits.empty();
     opt.shadow_buffer = !job.shadows.empty();
     AnswerMaps maps;
@@ -273,17 +288,27 @@ RenderJobResult run_render_job(const RenderJob& job) {
     opt.validate(scene.lights.size());
     maps.validate(opt, scene.lights.size());
 
+    // `auto`: RTT once a kd-tree is at hand (loaded, built to be saved, shared under mpirun) or
+    // its answer maps are asked for; else the first frame from `bvh`, whose BVH builds about 4x
+    // faster than the kd-tree (docs/benchmarks.md, "First image"), and the kd-tree built after it
+    // when more frames follow. Every kind gives the same hits, so the frames do not change.
+    const bool rtt_from_start = !job.tree.load.empty() || !job.tree.save.empty() || maps.primary ||
+                                maps.shadow_light >= 0 || mpi_distributed();
+    std::string tracer_kind = requested;
+    if (auto_kind) tracer_kind = rtt_from_start ? "rtt" : "bvh";
+
     RenderJobResult out;
     out.scene_label = loaded.label;
     out.triangles = scene.triangle_count();
     out.input_warnings = scene.warning_count;
     out.tracer = tracer_kind;
+    out.tracer_auto = auto_kind;
     const auto build_start = std::chrono::steady_clock::now();
     // Tracers with structures of their own (bvh, Embree) need no kd-tree unless asked to
     // save or load one.
     out.kd_used =
         tracer_uses_kdtree(tracer_kind) || !job.tree.load.empty() || !job.tree.save.empty();
-    const KdTree tree = [&] {
+    KdTree tree = [&] {
         if (!out.kd_used) return KdTree{};
         const render_detail::ProgressBar progress(
             0, !job.quiet && writer,
@@ -296,9 +321,26 @@ RenderJobResult run_render_job(const RenderJob& job) {
     out.kd_loaded = !job.tree.load.empty();
     out.kd_stats = tree.stats;
     const auto tracer_start = std::chrono::steady_clock::now();
-    const std::unique_ptr<Tracer> tracer = make_tracer(tracer_kind, scene, tree);
+    std::unique_ptr<Tracer> tracer = make_tracer(tracer_kind, scene, tree);
     out.tracer_build_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - tracer_start).count();
+    // `auto` after its first frame: the kd-tree and RTT for the frames that follow.
+    const auto switch_to_rtt = [&] {
+        const auto start = std::chrono::steady_clock::now();
+        {
+            const render_detail::ProgressBar progress(0, !job.quiet && writer,
+                                                      "building the kd-tree");
+            tree = make_tree(job.tree, scene);
+        }
+        const auto built = std::chrono::steady_clock::now();
+        tracer = make_tracer("rtt", scene, tree);
+        out.kd_used = true;
+        out.kd_stats = tree.stats;
+        out.kd_build_seconds = std::chrono::duration<double>(built - start).count();
+        out.tracer_build_seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - built).count();
+        out.tracer = "rtt";
+    };
     opt.progress = opt.progress && writer;
     const auto options_of = [&](RenderOptions o, size_t frame) {
         o.camera = camera_of(frame);
@@ -334,6 +376,7 @@ RenderJobResult run_render_job(const RenderJob& job) {
         return out;
     }
     for (size_t frame = 0; frame < frames; ++frame) {
+        if (frame == 1 && auto_kind && !out.kd_used) switch_to_rtt();
         opt = options_of(opt, frame);
         out.ranks.clear();
         out.result = mpi_distributed() ? render_distributed(scene, *tracer, opt, maps, &out.ranks,
@@ -381,7 +424,12 @@ void add_render_command(CLI::App& app) {
                     "Omni light at x,y,z (repeatable, at most 32; replaces the scene's)");
     cmd->add_option(
         "--tracer", job->tracer,
-        "Tracer: " + joined(tracer_kinds()) + " (default: " + default_tracer_kind() + ")");
+        "Tracer: " + joined(tracer_kinds()) +
+            (has_auto_tracer() ? ", auto (the first frame from bvh, the next ones from rtt once "
+                                 "its kd-tree is built; rtt when the kd-tree is loaded or saved, "
+                                 "for RTT's maps and under mpirun)"
+                               : std::string()) +
+            " (default: " + default_render_tracer() + ")");
     CLI::Option* threads =
         cmd->add_option("--threads", job->threads,
                         "Worker threads (default: all cores; results do not depend on it. `rtt "

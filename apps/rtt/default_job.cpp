@@ -13,8 +13,9 @@ void run_default_job() {
     job.scene.scene = "room";
     job.size = "640x480";
     job.image = "room.png";
+    job.tracer = default_tracer_kind();  // RTT itself, as the table after the image
     std::printf("rtt: rendering the built-in scene 'room' at 640x480 (tracer %s) -> room.png\n",
-                default_tracer_kind().c_str());
+                job.tracer.c_str());
     std::fflush(stdout);
     const RenderJobResult r = run_render_job(job);
     print_stats(stdout, r);

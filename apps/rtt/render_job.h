@@ -26,7 +26,7 @@ struct RenderJob {
     int aa = 1;
     int region = 0;  ///< --region: pixels per region side (0 = RenderOptions' default).
     std::vector<std::string> lights;  ///< "x,y,z" each; empty = scene's lights.
-    std::string tracer;               ///< Empty = default_tracer_kind().
+    std::string tracer;               ///< Empty = default_render_tracer().
     int threads = 0;                  ///< 0 = all cores.
     int max_depth = 4;
     std::string image;  ///< -o: .png (8-bit sRGB), .exr (linear float + AOVs), .pfm, .ppm.
@@ -49,8 +49,9 @@ struct RenderJob {
 struct RenderJobResult {
     std::string scene_label;
     size_t triangles = 0;
-    size_t input_warnings = 0;  ///< Scene::warning_count of the loaded scene.
-    std::string tracer;
+    size_t input_warnings = 0;    ///< Scene::warning_count of the loaded scene.
+    std::string tracer;           ///< The kind that traced the last frame.
+    bool tracer_auto = false;     ///< Chosen by `--tracer auto`.
     double kd_build_seconds = 0;  ///< Building, or loading with --load-tree (kd_loaded).
     bool kd_loaded = false;
     bool kd_used = true;  ///< False: the tracer needed no kd-tree (tracer_uses_kdtree).
@@ -74,6 +75,13 @@ std::string default_image_path(const SceneArgs& scene);
 
 /// "rtt" if this build has it, else "packet", else "ray".
 std::string default_tracer_kind();
+
+/// `--tracer auto`: the soonest exact image (run_render_job says how it picks).
+inline constexpr const char* auto_tracer = "auto";
+/// True when this build has the kinds `auto` picks from (bvh and rtt).
+bool has_auto_tracer();
+/// `rtt render`'s default: auto where the build has it, else default_tracer_kind().
+std::string default_render_tracer();
 
 /// Loads the scene, applies --camera / --light, builds the kd-tree and tracer, renders and
 /// writes every requested output, all of them or none (OutputSet). Throws rtt::Error on bad

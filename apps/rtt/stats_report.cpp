@@ -59,10 +59,11 @@ void print_stats(std::FILE* out, const RenderJobResult& r) {
         std::snprintf(kd, sizeof kd, "kd-tree %s in %.3f s", r.kd_loaded ? "loaded" : "built",
                       r.kd_build_seconds);
     std::fprintf(out,
-                 "%s: %zu triangles, %s; tracer %s (set up in %.3f s); %dx%d, %dx%d AA, %d "
+                 "%s: %zu triangles, %s; tracer %s%s (set up in %.3f s); %dx%d, %dx%d AA, %d "
                  "threads\n",
-                 r.scene_label.c_str(), r.triangles, kd, r.tracer.c_str(), r.tracer_build_seconds,
-                 res.width, res.height, res.aa, res.aa, s.threads);
+                 r.scene_label.c_str(), r.triangles, kd, r.tracer.c_str(),
+                 r.tracer_auto ? " (auto)" : "", r.tracer_build_seconds, res.width, res.height,
+                 res.aa, res.aa, s.threads);
     if (r.input_warnings)
         std::fprintf(out, "input warnings: %zu (skipped or repaired input, first ones on stderr)\n",
                      r.input_warnings);
@@ -125,6 +126,7 @@ void write_stats_json(const std::string& path, const RenderJob& job, const Rende
         {"triangles", r.triangles},
         {"input_warnings", r.input_warnings},
         {"tracer", r.tracer},
+        {"tracer_auto", r.tracer_auto},
         {"width", res.width},
         {"height", res.height},
         {"aa", res.aa},
