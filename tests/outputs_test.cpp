@@ -210,6 +210,19 @@ TEST(Outputs, SkippedInputIsReportedWithItsLine) {
 namespace rtt {
 namespace {
 
+bool has_auto() {
+    const std::vector<std::string> kinds = tracer_kinds();
+    return std::count(kinds.begin(), kinds.end(), "bvh") &&
+           std::count(kinds.begin(), kinds.end(), "rtt");
+}
+
+/// The "tracer" of a --stats-json file (the kind that traced the frame).
+std::string tracer_in(const std::string& path) {
+    const std::string json = read_text(path);
+    const size_t at = json.find("\"tracer\": \"");
+    return at == std::string::npos ? json : json.substr(at + 11, 3);
+}
+
 TEST(Outputs, CameraPathRendersNumberedFramesLikeSingleRenders) {
     TempDir dir("path");
     dir.write("path.txt",
@@ -225,19 +238,9 @@ TEST(Outputs, CameraPathRendersNumberedFramesLikeSingleRenders) {
     ASSERT_EQ(one.exit_code, 0) << one.err;
     EXPECT_EQ(read_text(dir.file("f_001.png")), read_text(dir.file("one.png")));
     EXPECT_EQ(read_text(dir.file("h_001.rtth")), read_text(dir.file("one.rtth")));
-    const std::vector<std::string> kinds = tracer_kinds();
-    if (std::count(kinds.begin(), kinds.end(), "bvh") &&
-        std::count(kinds.begin(), kinds.end(), "rtt")) {
-        // The default (`auto`) traced frame 0 with bvh and the next ones with rtt; the single
-        // render above was bvh's, and the frames are the same bit for bit.
-        const auto tracer_of = [&](const char* file) {
-            const std::string json = read_text(dir.file(file));
-            const size_t at = json.find("\"tracer\": \"");
-            return at == std::string::npos ? json : json.substr(at + 11, 3);
-        };
-        EXPECT_EQ(tracer_of("s_0.json"), "bvh");
-        EXPECT_EQ(tracer_of("s_1.json"), "rtt");
-        EXPECT_EQ(tracer_of("s_2.json"), "rtt");
+    if (has_auto()) {  // the default: so few rays that every frame stays with bvh
+        for (const char* f : {"s_0.json", "s_1.json", "s_2.json"})
+            EXPECT_EQ(tracer_in(dir.file(f)), "bvh") << f;
     }
     EXPECT_NE(read_text(dir.file("f_000.png")), read_text(dir.file("f_001.png")));
     EXPECT_TRUE(std::filesystem::exists(dir.file("f_002.png")));
@@ -254,6 +257,31 @@ TEST(Outputs, CameraPathRendersNumberedFramesLikeSingleRenders) {
     // Without a camera path a '%' in a name is just a character.
     EXPECT_EQ(run_cli(dir, common + "-o 'p%d.png'").exit_code, 0);
     EXPECT_TRUE(std::filesystem::exists(dir.file("p%d.png")));
+}
+
+/// `--tracer auto` renders with bvh until 300 rays per triangle have been traced, then builds
+/// the kd-tree and goes on with rtt; each frame's hits and shadows equal `--tracer rtt`'s.
+TEST(Outputs, AutoTracerSwitchesToRttWithTheSameFrames) {
+    if (!has_auto()) GTEST_SKIP() << "this build has no bvh or rtt kind";
+    TempDir dir("auto");
+    // 257 triangles: 77,100 rays. A frame of 64x48 at K = 4 has 49,152 camera rays and about
+    // as many shadow segments, so frame 0 pays and frames 1 and 2 come from rtt.
+    dir.write("path.txt",
+              "0.5,1.6,5,0,0.8,-1,0,1,0,55\n0.6,1.6,5,0,0.8,-1,0,1,0,55\n"
+              "0.7,1.5,5,0,0.8,-1,0,1,0,50\n");
+    const std::string common = "render --mesh '" + std::string(RTT_TEST_DATA_DIR) +
+                               "/render_mesh.obj' --size 64x48 --aa 4 --light 1.5,2.5,2 -q "
+                               "--camera-path path.txt ";
+    const auto a =
+        run_cli(dir, common + "--hits a_%d.rtth --shadows a_%d.rtts --stats-json a_%d.json");
+    ASSERT_EQ(a.exit_code, 0) << a.err;
+    const auto r = run_cli(dir, common + "--tracer rtt --hits r_%d.rtth --shadows r_%d.rtts");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    for (const std::string f : {"0", "1", "2"}) {
+        EXPECT_EQ(tracer_in(dir.file("a_" + f + ".json")), f == "0" ? "bvh" : "rtt") << f;
+        EXPECT_EQ(read_text(dir.file("a_" + f + ".rtth")), read_text(dir.file("r_" + f + ".rtth")));
+        EXPECT_EQ(read_text(dir.file("a_" + f + ".rtts")), read_text(dir.file("r_" + f + ".rtts")));
+    }
 }
 
 TEST(Outputs, CameraPathAsAJsonListGivesTheSameFrames) {

@@ -289,9 +289,10 @@ RenderJobResult run_render_job(const RenderJob& job) {
     maps.validate(opt, scene.lights.size());
 
     // `auto`: RTT once a kd-tree is at hand (loaded, built to be saved, shared under mpirun) or
-    // its answer maps are asked for; else the first frame from `bvh`, whose BVH builds about 4x
-    // faster than the kd-tree (docs/benchmarks.md, "First image"), and the kd-tree built after it
-    // when more frames follow. Every kind gives the same hits, so the frames do not change.
+    // its answer maps are asked for; else frames from `bvh`, whose BVH builds about 4x faster
+    // than the kd-tree, until their rays have paid for the kd-tree and RTT's setup (then `rtt`;
+    // docs/benchmarks.md, "First image", has the price and the saving). Every kind gives the
+    // same hits, so the frames do not change.
     const bool rtt_from_start = !job.tree.load.empty() || !job.tree.save.empty() || maps.primary ||
                                 maps.shadow_light >= 0 || mpi_distributed();
     std::string tracer_kind = requested;
@@ -324,7 +325,8 @@ RenderJobResult run_render_job(const RenderJob& job) {
     std::unique_ptr<Tracer> tracer = make_tracer(tracer_kind, scene, tree);
     out.tracer_build_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - tracer_start).count();
-    // `auto` after its first frame: the kd-tree and RTT for the frames that follow.
+    // `auto`, once the rays traced so far would have paid for them: the kd-tree and RTT.
+    double bvh_rays = 0;
     const auto switch_to_rtt = [&] {
         const auto start = std::chrono::steady_clock::now();
         {
@@ -376,13 +378,17 @@ RenderJobResult run_render_job(const RenderJob& job) {
         return out;
     }
     for (size_t frame = 0; frame < frames; ++frame) {
-        if (frame == 1 && auto_kind && !out.kd_used) switch_to_rtt();
+        if (auto_kind && !out.kd_used &&
+            bvh_rays >= double(auto_rays_per_triangle) * double(out.triangles))
+            switch_to_rtt();
         opt = options_of(opt, frame);
         out.ranks.clear();
         out.result = mpi_distributed() ? render_distributed(scene, *tracer, opt, maps, &out.ranks,
                                                             job.rank_timeout)
                                        : render(scene, *tracer, opt, maps);
         if (writer) write_frame(frame);
+        const RenderStats& st = out.result.stats;
+        bvh_rays += double(st.primary.trace.rays + st.shadow.trace.rays + st.secondary.trace.rays);
     }
     return out;
 }
@@ -425,10 +431,11 @@ void add_render_command(CLI::App& app) {
     cmd->add_option(
         "--tracer", job->tracer,
         "Tracer: " + joined(tracer_kinds()) +
-            (has_auto_tracer() ? ", auto (the first frame from bvh, the next ones from rtt once "
-                                 "its kd-tree is built; rtt when the kd-tree is loaded or saved, "
-                                 "for RTT's maps and under mpirun)"
-                               : std::string()) +
+            (has_auto_tracer()
+                 ? ", auto (bvh, whose BVH builds fastest, until its rays have paid for "
+                   "the kd-tree, then rtt; rtt when the kd-tree is loaded or "
+                   "saved, for RTT's maps and under mpirun)"
+                 : std::string()) +
             " (default: " + default_render_tracer() + ")");
     CLI::Option* threads =
         cmd->add_option("--threads", job->threads,
