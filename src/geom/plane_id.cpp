@@ -2,7 +2,6 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <array>
@@ -251,8 +250,9 @@ PlaneIds compute_plane_ids(std::span<const TriangleVerts> triangles) {
                 {scale, double(std::fabs(v.x)), double(std::fabs(v.y)), double(std::fabs(v.z))});
     if (!(scale > 0.0)) scale = 1.0;
 
-    // Cells sorted, not hashed: a hash map of per-cell lists cost a malloc and a free per plane,
-    // more than the rest of the work on curved meshes.
+    // Cells bucketed by a hash of their key, then sorted within each bucket: a hash map of
+    // per-cell lists cost a malloc and a free per plane, one sort of all the triangles about
+    // twice what the buckets cost (commit message of this change).
     large_vector<KeyedTriangle> keyed(triangles.size());
     tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(triangles.size()), 4096),
                       [&](const tbb::blocked_range<uint32_t>& r) {
@@ -260,9 +260,33 @@ PlaneIds compute_plane_ids(std::span<const TriangleVerts> triangles) {
                               if (!plane_key(triangles[i], i, scale, keyed[i]))
                                   keyed[i] = {degenerate_key, degenerate_key, i};
                       });
-    // The order is total (ties by index), so the parallel sort's result is the serial one.
-    tbb::parallel_sort(keyed.begin(), keyed.end());
-    while (!keyed.empty() && keyed.back().hi == degenerate_key) keyed.pop_back();
+    // About 16 triangles per bucket; a cell lies in one bucket, in index order after the sort
+    // (the order is total), and cells are independent: the ids do not depend on the buckets.
+    const int bits = std::clamp(int(std::bit_width(triangles.size() / 16)), 4, 16);
+    const auto bucket_of = [bits](const KeyedTriangle& k) {
+        uint64_t h = k.hi * 0x9E3779B97F4A7C15ull ^ (k.lo + 0x632BE59BD9B4E019ull);
+        h ^= h >> 29;
+        h *= 0xBF58476D1CE4E5B9ull;
+        return uint32_t(h >> (64 - bits));
+    };
+    std::vector<uint32_t> first((size_t(1) << bits) + 1, 0);
+    for (const KeyedTriangle& k : keyed)
+        if (k.hi != degenerate_key) ++first[bucket_of(k) + 1];
+    for (size_t b = 1; b < first.size(); ++b) first[b] += first[b - 1];
+    large_vector<KeyedTriangle> bucketed(first.back());
+    {
+        std::vector<uint32_t> at(first.begin(), first.end() - 1);
+        for (const KeyedTriangle& k : keyed)
+            if (k.hi != degenerate_key) bucketed[at[bucket_of(k)]++] = k;
+    }
+    keyed = large_vector<KeyedTriangle>();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, first.size() - 1, 64),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                          for (size_t b = r.begin(); b < r.end(); ++b)
+                              std::sort(bucketed.begin() + first[b],
+                                        bucketed.begin() + first[b + 1]);
+                      });
+    keyed = std::move(bucketed);
 
     // Within a cell, in index order: each triangle joins the first of the cell's planes it lies
     // on exactly, or founds a new one (its representative: the plane's smallest index).
