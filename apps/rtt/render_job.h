@@ -79,7 +79,7 @@ std::string default_tracer_kind();
 /// `--tracer auto`: the soonest exact image (run_render_job says how it picks).
 inline constexpr const char* auto_tracer = "auto";
 /// `auto` builds the kd-tree for `rtt` once `bvh` has traced this many rays per triangle: the
-/// kd-tree and RTT's setup cost 1.3-1.6 us per triangle, `rtt` saves about 5 ns per camera or
+/// kd-tree and RTT's setup cost 1.1-1.4 us per triangle, `rtt` saves about 5 ns per camera or
 /// shadow ray (docs/benchmarks.md, "First image").
 inline constexpr int auto_rays_per_triangle = 300;
 /// True when this build has the kinds `auto` picks from (bvh and rtt).
