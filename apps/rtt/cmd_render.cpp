@@ -110,19 +110,22 @@ std::string default_image_path(const SceneArgs& scene) {
     return (stem.empty() ? std::string("render") : stem) + ".png";
 }
 
-std::string default_tracer_kind() {
+namespace {
+bool has_kind(const char* kind) {
     const std::vector<std::string> kinds = tracer_kinds();
+    return std::find(kinds.begin(), kinds.end(), kind) != kinds.end();
+}
+}  // namespace
+
+std::string default_tracer_kind() {
     for (const char* preferred : {"rtt", "packet", "ray"})
-        if (std::find(kinds.begin(), kinds.end(), preferred) != kinds.end()) return preferred;
+        if (has_kind(preferred)) return preferred;
+    const std::vector<std::string> kinds = tracer_kinds();
     return kinds.empty() ? "ray" : kinds.front();
 }
 
 bool has_auto_tracer() {
-    const std::vector<std::string> kinds = tracer_kinds();
-    const auto has = [&](const char* k) {
-        return std::find(kinds.begin(), kinds.end(), k) != kinds.end();
-    };
-    return has("bvh") && has("rtt");
+    return has_kind("bvh") && has_kind("rtt");
 }
 
 std::string default_render_tracer() {
@@ -302,47 +305,41 @@ RenderJobResult run_render_job(const RenderJob& job) {
     out.scene_label = loaded.label;
     out.triangles = scene.triangle_count();
     out.input_warnings = scene.warning_count;
-    out.tracer = tracer_kind;
     out.tracer_auto = auto_kind;
-    const auto build_start = std::chrono::steady_clock::now();
-    // Tracers with structures of their own (bvh, Embree) need no kd-tree unless asked to
-    // save or load one.
-    out.kd_used =
-        tracer_uses_kdtree(tracer_kind) || !job.tree.load.empty() || !job.tree.save.empty();
-    KdTree tree = [&] {
-        if (!out.kd_used) return KdTree{};
-        const render_detail::ProgressBar progress(
-            0, !job.quiet && writer,
-            job.tree.load.empty() ? "building the kd-tree" : "loading the kd-tree");
-        return share_tree(
-            scene, [&] { return make_tree(job.tree, scene); }, job.rank_timeout);
-    }();
-    out.kd_build_seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count();
-    out.kd_loaded = !job.tree.load.empty();
-    out.kd_stats = tree.stats;
-    const auto tracer_start = std::chrono::steady_clock::now();
-    std::unique_ptr<Tracer> tracer = make_tracer(tracer_kind, scene, tree);
-    out.tracer_build_seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - tracer_start).count();
-    // `auto`, once the rays traced so far would have paid for them: the kd-tree and RTT.
-    double bvh_rays = 0;
-    const auto switch_to_rtt = [&] {
+    const auto seconds_since = [](std::chrono::steady_clock::time_point start) {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
+    KdTree tree;
+    std::unique_ptr<Tracer> tracer;
+    const auto build_tree = [&] {
+        tracer.reset();  // it may refer to the tree replaced here
         const auto start = std::chrono::steady_clock::now();
         {
-            const render_detail::ProgressBar progress(0, !job.quiet && writer,
-                                                      "building the kd-tree");
-            tree = make_tree(job.tree, scene);
+            const render_detail::ProgressBar progress(
+                0, !job.quiet && writer,
+                job.tree.load.empty() ? "building the kd-tree" : "loading the kd-tree");
+            tree = share_tree(
+                scene, [&] { return make_tree(job.tree, scene); }, job.rank_timeout);
         }
-        const auto built = std::chrono::steady_clock::now();
-        tracer = make_tracer("rtt", scene, tree);
-        out.kd_used = true;
+        out.kd_build_seconds = seconds_since(start);
+        out.kd_loaded = !job.tree.load.empty();
         out.kd_stats = tree.stats;
-        out.kd_build_seconds = std::chrono::duration<double>(built - start).count();
-        out.tracer_build_seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - built).count();
-        out.tracer = "rtt";
+        out.kd_used = true;
     };
+    const auto set_tracer = [&](const std::string& kind) {
+        const auto start = std::chrono::steady_clock::now();
+        tracer = make_tracer(kind, scene, tree);
+        out.tracer_build_seconds = seconds_since(start);
+        out.tracer = kind;
+    };
+    // Tracers with structures of their own (bvh, Embree) need no kd-tree unless asked to
+    // save or load one.
+    out.kd_used = false;
+    if (tracer_uses_kdtree(tracer_kind) || !job.tree.load.empty() || !job.tree.save.empty())
+        build_tree();
+    set_tracer(tracer_kind);
+    // `auto`, once the rays traced so far would have paid for them: the kd-tree and RTT.
+    uint64_t bvh_rays = 0;
     opt.progress = opt.progress && writer;
     const auto options_of = [&](RenderOptions o, size_t frame) {
         o.camera = camera_of(frame);
@@ -378,9 +375,10 @@ RenderJobResult run_render_job(const RenderJob& job) {
         return out;
     }
     for (size_t frame = 0; frame < frames; ++frame) {
-        if (auto_kind && !out.kd_used &&
-            bvh_rays >= double(auto_rays_per_triangle) * double(out.triangles))
-            switch_to_rtt();
+        if (auto_kind && !out.kd_used && bvh_rays >= auto_rays_per_triangle * out.triangles) {
+            build_tree();
+            set_tracer("rtt");
+        }
         opt = options_of(opt, frame);
         out.ranks.clear();
         out.result = mpi_distributed() ? render_distributed(scene, *tracer, opt, maps, &out.ranks,
@@ -388,7 +386,7 @@ RenderJobResult run_render_job(const RenderJob& job) {
                                        : render(scene, *tracer, opt, maps);
         if (writer) write_frame(frame);
         const RenderStats& st = out.result.stats;
-        bvh_rays += double(st.primary.trace.rays + st.shadow.trace.rays + st.secondary.trace.rays);
+        bvh_rays += st.primary.trace.rays + st.shadow.trace.rays + st.secondary.trace.rays;
     }
     return out;
 }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -81,7 +82,7 @@ inline constexpr const char* auto_tracer = "auto";
 /// `auto` builds the kd-tree for `rtt` once `bvh` has traced this many rays per triangle: the
 /// kd-tree and RTT's setup cost 1.1-1.4 us per triangle, `rtt` saves about 5 ns per camera or
 /// shadow ray (docs/benchmarks.md, "First image").
-inline constexpr int auto_rays_per_triangle = 300;
+inline constexpr uint64_t auto_rays_per_triangle = 300;
 /// True when this build has the kinds `auto` picks from (bvh and rtt).
 bool has_auto_tracer();
 /// `rtt render`'s default: auto where the build has it, else default_tracer_kind().

@@ -251,8 +251,8 @@ PlaneIds compute_plane_ids(std::span<const TriangleVerts> triangles) {
     if (!(scale > 0.0)) scale = 1.0;
 
     // Cells bucketed by a hash of their key, then sorted within each bucket: a hash map of
-    // per-cell lists cost a malloc and a free per plane, one sort of all the triangles about
-    // twice what the buckets cost (commit message of this change).
+    // per-cell lists cost a malloc and a free per plane, one sort of all the triangles twice
+    // the buckets' time (docs/design.md, "Plane identity").
     large_vector<KeyedTriangle> keyed(triangles.size());
     tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(triangles.size()), 4096),
                       [&](const tbb::blocked_range<uint32_t>& r) {
