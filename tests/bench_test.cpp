@@ -321,6 +321,8 @@ TEST(BenchCli, BuildTableTimesBothBuildsAndDescribesTheTree) {
     ASSERT_FALSE(builds.empty());
     for (const nlohmann::json& b : builds) {
         EXPECT_GT(b.at("kdtree_s").get<double>(), 0.0);
+        EXPECT_GT(b.at("bvh_s").get<double>(), 0.0);
+        EXPECT_GT(b.at("bvh_high_s").get<double>(), 0.0);
         if (has_tracer("embree")) {
             EXPECT_GT(b.at("embree_bvh_s").get<double>(), 0.0);
             EXPECT_GT(b.at("embree_bvh_medium_s").get<double>(), 0.0);

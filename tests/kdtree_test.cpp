@@ -251,29 +251,38 @@ bool hits_degenerate_off_itself(const Tris& tris, const Ray& r) {
     return false;
 }
 
-/// Closest hit and any-hit of the reference tracer, and of the BVH's (this ISA's width, single
-/// rays and packets of consecutive rays), against brute force, ray by ray.
+/// Closest hit and any-hit of the reference tracer, and of both BVHs' (this ISA's width, with
+/// and without spatial splits, single rays and packets of consecutive rays), against brute
+/// force, ray by ray.
 Mismatches compare_with_brute_force(const KdTree& tree, const Tris& tris,
                                     const std::vector<Ray>& rays) {
     Mismatches m;
-    const Bvh<bvh_width> bvh = build_bvh<bvh_width>(tris);
-    std::vector<Hit> packet_hits(rays.size());
-    std::vector<uint8_t> packet_visible(rays.size());
-    trace_bvh_packets(bvh, rays, packet_hits);
-    visible_bvh_packets(bvh, rays, packet_visible);
+    const Bvh<bvh_width> bvhs[2] = {build_bvh<bvh_width>(tris),
+                                    build_bvh<bvh_width>(tris, bvh_high_quality)};
+    std::vector<Hit> packet_hits[2];
+    std::vector<uint8_t> packet_visible[2];
+    for (int b = 0; b < 2; ++b) {
+        packet_hits[b].resize(rays.size());
+        packet_visible[b].resize(rays.size());
+        trace_bvh_packets(bvhs[b], rays, packet_hits[b]);
+        visible_bvh_packets(bvhs[b], rays, packet_visible[b]);
+    }
     for (size_t i = 0; i < rays.size(); ++i) {
         const Ray& r = rays[i];
         const Hit expect = trace_brute_force(tris, r);
         const Hit got = trace_ray(tree, tris, r);
-        const Hit got_bvh = trace_bvh(bvh, r);
+        const Hit got_bvh = trace_bvh(bvhs[0], r);
         m.hits += expect.valid();
         const bool blocked = occluded_brute_force(tris, r);
-        // The BVH's packets answer as its single rays, bit for bit.
-        const bool closest_differs =
-            !(got == expect) || !same_hit(got_bvh, expect) || !(packet_hits[i] == got_bvh);
-        const bool occluded_differs = occluded_ray(tree, tris, r) != blocked ||
-                                      occluded_bvh(bvh, r) != blocked ||
-                                      packet_visible[i] != !blocked;
+        bool closest_differs = !(got == expect) || !same_hit(got_bvh, expect);
+        bool occluded_differs = occluded_ray(tree, tris, r) != blocked;
+        for (int b = 0; b < 2; ++b) {
+            // Both BVHs and their packets answer as the first's single rays, bit for bit.
+            closest_differs = closest_differs || !(trace_bvh(bvhs[b], r) == got_bvh) ||
+                              !(packet_hits[b][i] == got_bvh);
+            occluded_differs = occluded_differs || occluded_bvh(bvhs[b], r) != blocked ||
+                               packet_visible[b][i] != !blocked;
+        }
         if ((closest_differs || occluded_differs) && hits_degenerate_off_itself(tris, r)) {
             ++m.excluded;
             continue;
@@ -943,20 +952,50 @@ TEST(KdTree, BuildDoesNotDependOnIsa) {
 TEST(Bvh, BuildDoesNotDependOnThreadCount) {
     // Enough triangles for the build's parallel binning and subtrees.
     const Tris tris = random_soup(60000, 12, 0.2f);
-    Bvh<bvh_width> one;
-    {
-        tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
-        one = build_bvh<bvh_width>(tris);
+    for (const BvhBuildOptions& options : {BvhBuildOptions{}, bvh_high_quality}) {
+        SCOPED_TRACE(options.spatial_split_budget);
+        Bvh<bvh_width> one;
+        {
+            tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+            one = build_bvh<bvh_width>(tris, options);
+        }
+        const Bvh<bvh_width> many = build_bvh<bvh_width>(tris, options);
+        ASSERT_EQ(one.nodes.size(), many.nodes.size());
+        ASSERT_EQ(one.blocks.size(), many.blocks.size());
+        EXPECT_EQ(std::memcmp(one.nodes.data(), many.nodes.data(),
+                              one.nodes.size() * sizeof(one.nodes[0])),
+                  0);
+        EXPECT_EQ(std::memcmp(one.blocks.data(), many.blocks.data(),
+                              one.blocks.size() * sizeof(BvhTriangles4)),
+                  0);
     }
-    const Bvh<bvh_width> many = build_bvh<bvh_width>(tris);
-    ASSERT_EQ(one.nodes.size(), many.nodes.size());
-    ASSERT_EQ(one.blocks.size(), many.blocks.size());
-    EXPECT_EQ(
-        std::memcmp(one.nodes.data(), many.nodes.data(), one.nodes.size() * sizeof(one.nodes[0])),
-        0);
-    EXPECT_EQ(std::memcmp(one.blocks.data(), many.blocks.data(),
-                          one.blocks.size() * sizeof(BvhTriangles4)),
-              0);
+}
+
+/// Spatial splits copy triangles that cross their planes, each copy's box clipped to its side:
+/// the soup's long triangles must be split (more slots than triangles), every triangle must still
+/// be listed, and a budget outside [0, 1] is refused.
+TEST(Bvh, SpatialSplitsCopyCrossingTriangles) {
+    const Tris tris = random_soup(20000, 12, 2.f);
+    const Bvh<bvh_width> plain = build_bvh<bvh_width>(tris);
+    const Bvh<bvh_width> high = build_bvh<bvh_width>(tris, bvh_high_quality);
+    const auto listed = [&](const Bvh<bvh_width>& bvh) {
+        std::vector<int> seen(tris.size());
+        size_t slots = 0;
+        for (const BvhTriangles4& q : bvh.blocks)
+            for (uint32_t id : q.id)
+                if (id != invalid_triangle) {
+                    ++seen[id];
+                    ++slots;
+                }
+        EXPECT_EQ(std::count(seen.begin(), seen.end(), 0), 0);
+        return slots;
+    };
+    EXPECT_EQ(listed(plain), tris.size());
+    const size_t slots = listed(high);
+    EXPECT_GT(slots, tris.size());
+    EXPECT_LE(slots, tris.size() + size_t(0.25 * double(tris.size())));
+    EXPECT_THROW(build_bvh<bvh_width>(tris, {1.5f}), Error);
+    EXPECT_THROW(build_bvh<bvh_width>(tris, {-0.1f}), Error);
 }
 
 TEST(KdTree, DepthLimitsHold) {

@@ -1,8 +1,9 @@
-// Bounding volume hierarchies for arbitrary rays (the "bvh" tracer, trace_bvh.cpp): binned SAH,
-// W children per node (4 for SSE kernels, 8 for AVX2 and AVX-512).
-// Each triangle is listed once, in one leaf; node boxes are the exact bounds of what is under
-// them. docs/design.md, "The BVH for arbitrary rays", says why the traversal's box margins keep
-// it exact.
+// Bounding volume hierarchies for arbitrary rays (the "bvh" and "bvh-high" tracers,
+// trace_bvh.cpp): binned SAH, W children per node (4 for SSE kernels, 8 for AVX2 and AVX-512).
+// Without spatial splits each triangle is listed once, in one leaf, and node boxes are the exact
+// bounds of what is under them; with them a triangle may be listed in several leaves, each copy's
+// box holding its part of the triangle (rounded outward). docs/design.md, "The BVH for arbitrary
+// rays", says why the traversal's box margins keep it exact either way.
 #pragma once
 
 #include <cstdint>
@@ -47,9 +48,18 @@ struct Bvh {
 using Bvh4 = Bvh<4>;
 using Bvh8 = Bvh<8>;
 
+struct BvhBuildOptions {
+    /// Spatial splits (Stich, Friedrich and Dietrich 2009) where a node's children would overlap,
+    /// with room for copies of up to this fraction of the triangles; 0: object splits only.
+    float spatial_split_budget = 0.f;
+};
+/// The "bvh-high" tracer's build: a quarter's room (the splits take 6-8 % on the built-in
+/// scenes; docs/benchmarks.md, "Arbitrary rays").
+inline constexpr BvhBuildOptions bvh_high_quality{0.25f};
+
 /// Builds the hierarchy over `triangles` (binned SAH) on the calling thread's oneTBB arena; the
 /// result does not depend on the number of threads. Throws rtt::Error beyond bvh_max_triangles.
 template <int W>
-Bvh<W> build_bvh(std::span<const TriangleVerts> triangles);
+Bvh<W> build_bvh(std::span<const TriangleVerts> triangles, const BvhBuildOptions& options = {});
 
 }  // namespace rtt

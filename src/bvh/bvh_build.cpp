@@ -1,7 +1,9 @@
 // Binned SAH over triangle centroids (up to 16 bins per axis, fewer in small nodes), W children
-// per node made at once by opening the largest child until W are there (WideBuilder). Large nodes
-// bin in parallel and the subtrees under them are built in parallel on disjoint ranges of
-// references, then laid out in a fixed order, so the tree is the same for any number of threads.
+// per node made at once by opening the largest child until W are there (WideBuilder); with a
+// budget, spatial splits too (SBVH: Stich, Friedrich and Dietrich 2009), whose copies of a
+// triangle are clipped to each side conservatively. Large nodes bin in parallel and the subtrees
+// under them are built in parallel on disjoint ranges of references, then laid out in a fixed
+// order, so the tree is the same for any number of threads.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
@@ -15,6 +17,7 @@
 #include <vector>
 
 #include "bvh/bvh.h"
+#include "kdtree/kd_clip.h"
 #include "rtt/error.h"
 #include "simd/simd.h"
 #include "trace/trace_ray.h"
@@ -31,6 +34,10 @@ int bins_for(uint32_t n) {
 // A block of four triangles costs about two node tests (docs/benchmarks.md, "Arbitrary rays").
 constexpr float traversal_cost = 1.f, intersection_cost = 2.f;
 constexpr int sah_depth = 64;
+/// The overlap of an object split's children, as a part of the scene's surface, beyond which
+/// spatial splits are tried: Stich et al. take 1e-5; 3e-3 gives nearly the same SAH cost for a
+/// third of the build (docs/benchmarks.md, "Arbitrary rays").
+constexpr float spatial_overlap = 3e-3f;
 /// Below this many references a node's work stays on one thread.
 constexpr uint32_t parallel_refs = 16384;
 
@@ -61,6 +68,13 @@ struct alignas(32) PrimRef {
     alignas(16) float lo[4];
     alignas(16) float hi[4];
     uint32_t id() const { return std::bit_cast<uint32_t>(lo[3]); }
+    Bbox3f box() const { return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}}; }
+    void set_box(const Bbox3f& b) {
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = b.lo[a];
+            hi[a] = b.hi[a];
+        }
+    }
     /// lo + hi, twice the centroid (the index masked out of lane 3).
     RTT_FORCEINLINE vfloat4 centroid2() const {
         const vint4 xyz(_mm_setr_epi32(-1, -1, -1, 0));
@@ -139,15 +153,72 @@ T reduce_range(uint32_t first, uint32_t end, F&& f, M&& merge) {
         });
 }
 
-/// A node's references [first, end) and their extent, with its split decided when it is made:
-/// a leaf, the boundary below bin `bin` along `axis`, or (axis -1, not a leaf) halves.
+/// A node's references [first, end), room for the copies spatial splits make up to `cap`, and
+/// their extent, with its split decided when it is made: a leaf; the plane `pos` along
+/// `spatial_axis` (a spatial split); the centroid boundary below bin `bin` along `axis`; or (no
+/// axis, not a leaf) halves.
 struct Range {
-    uint32_t first = 0, end = 0;
+    uint32_t first = 0, end = 0, cap = 0;
     int depth = 0;
     Extent ext;
     bool leaf = false;
     int axis = -1, bin = 0;
+    int spatial_axis = -1;
+    float pos = 0.f;
     uint32_t size() const { return end - first; }
+};
+
+/// Per axis, the clipped bounds of the references' parts in each of n slabs of a node's box,
+/// and how many references start (`enter`) and end (`exit`) in each (Stich, Friedrich and
+/// Dietrich 2009).
+struct SpatialBins {
+    int n;
+    std::array<std::array<Box4, max_bins>, 3> box;
+    std::array<std::array<uint32_t, max_bins>, 3> enter, exit;
+
+    explicit SpatialBins(int n_ = max_bins) : n(n_) {
+        for (size_t a = 0; a < 3; ++a)
+            for (size_t b = 0; b < size_t(n); ++b) {
+                box[a][b] = Box4{};
+                enter[a][b] = exit[a][b] = 0;
+            }
+    }
+    void merge(const SpatialBins& o) {
+        for (size_t a = 0; a < 3; ++a)
+            for (size_t b = 0; b < size_t(n); ++b) {
+                box[a][b].extend(o.box[a][b]);
+                enter[a][b] += o.enter[a][b];
+                exit[a][b] += o.exit[a][b];
+            }
+    }
+};
+
+/// The n - 1 planes between n equal slabs of a box along each axis, and which slab a
+/// reference's faces fall in, decided by comparing with the planes themselves so that the
+/// counts agree with the split (a part at a plane belongs to the slab above it).
+struct SlabPlanes {
+    int n;
+    std::array<std::array<float, max_bins + 1>, 3> at;  ///< at[a][b]: the lower face of slab b.
+
+    SlabPlanes(const Box4& box, int n_) : n(n_) {
+        for (size_t a = 0; a < 3; ++a) {
+            const float lo = box.lo[int(a)], d = box.hi[int(a)] - lo;
+            at[a][0] = neg_inf;
+            for (int b = 1; b < n; ++b) at[a][size_t(b)] = lo + d * (float(b) / float(n));
+            at[a][size_t(n)] = pos_inf;
+        }
+    }
+    /// The slab holding x: the last whose lower face is <= x.
+    int slab(int a, float x) const {
+        const auto& p = at[size_t(a)];
+        return int(std::upper_bound(p.begin() + 1, p.begin() + n, x) - p.begin()) - 1;
+    }
+    /// The slab holding a part's upper face hi (> its lower faces strictly), not below `from`.
+    int last_slab(int a, float hi, int from) const {
+        const auto& p = at[size_t(a)];
+        return std::max(from,
+                        int(std::lower_bound(p.begin() + 1, p.begin() + n, hi) - p.begin()) - 1);
+    }
 };
 
 /// Builds the W-wide tree directly: a node's range is split in two by binned SAH, and the child
@@ -159,7 +230,9 @@ struct Range {
 template <int W>
 class WideBuilder {
 public:
-    explicit WideBuilder(std::span<const TriangleVerts> tris) : tris_(tris), refs_(tris.size()) {
+    WideBuilder(std::span<const TriangleVerts> tris, const BvhBuildOptions& options)
+        : tris_(tris),
+          refs_(tris.size() + size_t(double(tris.size()) * double(options.spatial_split_budget))) {
         tbb::parallel_for(tbb::blocked_range<size_t>(0, tris.size(), 4096),
                           [&](const tbb::blocked_range<size_t>& r) {
                               for (size_t i = r.begin(); i < r.end(); ++i) {
@@ -177,7 +250,7 @@ public:
 
     Bvh<W> build() {
         Bvh<W> out;
-        Range root{0, uint32_t(refs_.size())};
+        Range root{0, uint32_t(tris_.size()), uint32_t(refs_.size())};
         root.ext = reduce_range<Extent>(
             0, root.end,
             [&](uint32_t lo, uint32_t hi) {
@@ -186,6 +259,7 @@ public:
                 return e;
             },
             [](Extent& a, const Extent& b) { a.merge(b); });
+        root_area_ = root.ext.box.half_area();
         decide(root);
         out.padded_bounds = padded_bounds(root.ext.box.box());
         out.blocks.reserve(refs_.size() / 2);
@@ -223,54 +297,108 @@ private:
         if (r.depth < sah_depth) {
             const Bins all = bin_all(r.first, r.end, map);
             const float parent = ext.box.half_area();
+            Box4 best_left, best_right;
             for (int a = 0; a < 3; ++a) {
                 if (!(ext.centroids.hi[a] - ext.centroids.lo[a] > 0.f)) continue;
-                const auto& bb = all.box[size_t(a)];
-                const auto& bc = all.count[size_t(a)];
-                // Sweep: areas and counts to the right of each boundary, then to the left.
-                std::array<float, max_bins> right_area{};
-                std::array<uint32_t, max_bins> right_count{};
-                Box4 rb;
-                uint32_t rc = 0;
-                for (int b = map.n - 1; b > 0; --b) {
-                    rb.extend(bb[size_t(b)]);
-                    rc += bc[size_t(b)];
-                    right_area[size_t(b)] = rb.empty() ? 0.f : rb.half_area();
-                    right_count[size_t(b)] = rc;
-                }
-                Box4 lb;
-                uint32_t lc = 0;
-                for (int b = 1; b < map.n; ++b) {
-                    lb.extend(bb[size_t(b - 1)]);
-                    lc += bc[size_t(b - 1)];
-                    if (lc == 0 || right_count[size_t(b)] == 0) continue;
-                    const float cost =
-                        traversal_cost +
-                        intersection_cost *
-                            (lb.half_area() * blocks_of(lc) +
-                             right_area[size_t(b)] * blocks_of(right_count[size_t(b)])) /
-                            parent;
-                    if (cost < best_cost) {
-                        best_cost = cost;
-                        r.axis = a;
-                        r.bin = b;
-                    }
-                }
+                sweep(all.box[size_t(a)], all.count[size_t(a)], all.count[size_t(a)], map.n, parent,
+                      n, best_cost, [&](int b, const Box4& lb, const Box4& rb) {
+                          r.axis = a;
+                          r.bin = b;
+                          best_left = lb;
+                          best_right = rb;
+                      });
             }
+            // Spatial splits where the best object split's children overlap by more than a
+            // part of the scene's surface (Stich et al.) and copies still fit.
+            if (r.cap > r.end &&
+                (r.axis < 0 || overlap(best_left, best_right) > spatial_overlap * root_area_))
+                decide_spatial(r, parent, best_cost);
         }
         // No useful split (centroids coincide) or too deep: a leaf if it may be one, else halves.
-        r.leaf = r.axis < 0 && n <= bvh_leaf_max;
+        r.leaf = r.axis < 0 && r.spatial_axis < 0 && n <= bvh_leaf_max;
+    }
+
+    /// The SAH sweep over n bins of one axis: the left side of boundary b holds the bins below
+    /// it (entering there: `left_count`), the right the bins from b on (`right_count`). Calls
+    /// better(b, left box, right box) for each boundary cheaper than best_cost, which it lowers,
+    /// among those whose sides hold at most max_refs references together.
+    template <typename Better>
+    static void sweep(const std::array<Box4, max_bins>& box,
+                      const std::array<uint32_t, max_bins>& left_count,
+                      const std::array<uint32_t, max_bins>& right_count, int n, float parent,
+                      uint32_t max_refs, float& best_cost, Better&& better) {
+        std::array<Box4, max_bins> right_box;
+        std::array<uint32_t, max_bins> right_sum{};
+        Box4 rb;
+        uint32_t rc = 0;
+        for (int b = n - 1; b > 0; --b) {
+            rb.extend(box[size_t(b)]);
+            rc += right_count[size_t(b)];
+            right_box[size_t(b)] = rb;
+            right_sum[size_t(b)] = rc;
+        }
+        Box4 lb;
+        uint32_t lc = 0;
+        for (int b = 1; b < n; ++b) {
+            lb.extend(box[size_t(b - 1)]);
+            lc += left_count[size_t(b - 1)];
+            const uint32_t rcount = right_sum[size_t(b)];
+            if (lc == 0 || rcount == 0 || lc + rcount > max_refs) continue;
+            const float cost =
+                traversal_cost + intersection_cost *
+                                     (lb.half_area() * blocks_of(lc) +
+                                      right_box[size_t(b)].half_area() * blocks_of(rcount)) /
+                                     parent;
+            if (cost < best_cost) {
+                best_cost = cost;
+                better(b, lb, right_box[size_t(b)]);
+            }
+        }
+    }
+
+    static float overlap(const Box4& a, const Box4& b) {
+        Box4 both;
+        both.lo = max(a.lo, b.lo);
+        both.hi = min(a.hi, b.hi);
+        const vfloat4 d = both.hi - both.lo;
+        if (!(d[0] >= 0.f && d[1] >= 0.f && d[2] >= 0.f)) return 0.f;
+        return both.half_area();
+    }
+
+    /// Spatial splits of r: every slab plane of its box, the references' parts clipped to the
+    /// slabs; takes the cheapest if it beats best_cost.
+    void decide_spatial(Range& r, float parent, float& best_cost) const {
+        const int n = bins_for(r.size());
+        const SlabPlanes planes(r.ext.box, n);
+        const SpatialBins all = bin_spatial(r.first, r.end, planes);
+        for (int a = 0; a < 3; ++a) {
+            if (!(r.ext.box.hi[a] - r.ext.box.lo[a] > 0.f)) continue;
+            sweep(all.box[size_t(a)], all.enter[size_t(a)], all.exit[size_t(a)], n, parent,
+                  r.cap - r.first, best_cost, [&](int b, const Box4&, const Box4&) {
+                      r.spatial_axis = a;
+                      r.pos = planes.at[size_t(a)][size_t(b)];
+                  });
+        }
     }
 
     /// Splits the inner range r as decided into `left` and `right`, and decides theirs.
     void open(const Range& r, Range& left, Range& right) {
-        const uint32_t first = r.first, end = r.end, n = r.size();
-        uint32_t mid;
+        const uint32_t first = r.first, n = r.size();
+        uint32_t end = r.end, mid;
         left = Range{};
         right = Range{};
-        if (r.axis >= 0) {
-            mid = partition(first, end, BinMap(r.ext.centroids, bins_for(n)), r.axis, r.bin,
-                            left.ext, right.ext);
+        if (r.spatial_axis >= 0) {
+            const int a = r.spatial_axis;
+            const float pos = r.pos;
+            end = split_straddlers(r);
+            mid = partition(
+                first, end, [&](const PrimRef& p) { return p.lo[a] < pos; }, left.ext, right.ext);
+        } else if (r.axis >= 0) {
+            const BinMap map(r.ext.centroids, bins_for(n));
+            const int a = r.axis, bin = r.bin;
+            mid = partition(
+                first, end, [&](const PrimRef& p) { return map(p.centroid2())[a] < bin; }, left.ext,
+                right.ext);
         } else {  // halves by centroid order
             const vfloat4 d = r.ext.centroids.hi - r.ext.centroids.lo;
             const int a = d[0] >= d[1] ? (d[0] >= d[2] ? 0 : 2) : (d[1] >= d[2] ? 1 : 2);
@@ -283,9 +411,17 @@ private:
             for (uint32_t i = first; i < mid; ++i) left.ext.add(refs_[i]);
             for (uint32_t i = mid; i < end; ++i) right.ext.add(refs_[i]);
         }
+        // The room left for copies, shared in proportion to the references: the right side's
+        // moved up to make the left side's.
+        const uint32_t room = r.cap - end;
+        const uint32_t left_room = uint32_t(uint64_t(room) * (mid - first) / (end - first));
+        if (left_room > 0) std::move_backward(&refs_[mid], &refs_[end], &refs_[end + left_room]);
         left.first = first;
-        left.end = right.first = mid;
-        right.end = end;
+        left.end = mid;
+        left.cap = mid + left_room;
+        right.first = mid + left_room;
+        right.end = end + left_room;
+        right.cap = r.cap;
         left.depth = right.depth = r.depth + 1;
         if (n >= parallel_refs)
             tbb::parallel_invoke([&] { decide(left); }, [&] { decide(right); });
@@ -444,11 +580,11 @@ private:
             [](Bins& x, const Bins& y) { x.merge(y); });
     }
 
-    /// Moves the references of [first, end) whose bin along `axis` is below `bin` to the front;
-    /// returns where the rest start, with both sides' extents.
-    uint32_t partition(uint32_t first, uint32_t end, const BinMap& map, int axis, int bin,
-                       Extent& left, Extent& right) {
-        const auto goes_left = [&](const PrimRef& r) { return map(r.centroid2())[axis] < bin; };
+    /// Moves the references of [first, end) that go left to the front; returns where the rest
+    /// start, with both sides' extents.
+    template <typename GoesLeft>
+    uint32_t partition(uint32_t first, uint32_t end, GoesLeft&& goes_left, Extent& left,
+                       Extent& right) {
         uint32_t i = first, j = end;
         for (;;) {
             while (i < j && goes_left(refs_[i])) left.add(refs_[i++]);
@@ -456,6 +592,91 @@ private:
             if (i >= j) return i;
             std::swap(refs_[i], refs_[j - 1]);
         }
+    }
+
+    /// Each reference of r that crosses its spatial plane clipped to both sides: the part
+    /// below stays in place, the part above is appended after r's end. A part only on the
+    /// plane is dropped: the closed part on the other side holds its points. Returns the new
+    /// end (at most r.cap: the split's bins counted every crossing).
+    uint32_t split_straddlers(const Range& r) {
+        const int a = r.spatial_axis;
+        const float pos = r.pos;
+        uint32_t end = r.end;
+        for (uint32_t i = r.first; i < r.end; ++i) {
+            PrimRef& p = refs_[i];
+            if (!(p.lo[a] < pos && pos < p.hi[a])) continue;
+            const ClippedSides sides = clip_triangle_to_children(tris_[p.id()], p.box(), a, pos);
+            const bool left = sides.left && sides.left_box.lo[a] < pos;
+            const bool right = sides.right && sides.right_box.hi[a] > pos;
+            if (left && right) {
+                PrimRef& copy = refs_[end++];
+                copy = p;
+                copy.set_box(sides.right_box);
+                p.set_box(sides.left_box);
+            } else if (left || right) {
+                p.set_box(left ? sides.left_box : sides.right_box);
+            }
+        }
+        return end;
+    }
+
+    SpatialBins bin_spatial(uint32_t first, uint32_t end, const SlabPlanes& planes) const {
+        return reduce_range<SpatialBins>(
+            first, end,
+            [&](uint32_t from, uint32_t to) {
+                SpatialBins out(planes.n);
+                for (uint32_t i = from; i < to; ++i) {
+                    const PrimRef& p = refs_[i];
+                    const vfloat4 lo = vfloat4::load(p.lo), hi = vfloat4::load(p.hi);
+                    for (int a = 0; a < 3; ++a) {
+                        const int b0 = planes.slab(a, p.lo[a]);
+                        const int b1 = planes.last_slab(a, p.hi[a], b0);
+                        ++out.enter[size_t(a)][size_t(b0)];
+                        ++out.exit[size_t(a)][size_t(b1)];
+                        if (b0 == b1) {
+                            out.box[size_t(a)][size_t(b0)].extend(lo, hi);
+                            continue;
+                        }
+                        // The part in each slab, the rest split again at the next plane.
+                        const TriangleVerts& tri = tris_[p.id()];
+                        Box4 rest{lo, hi};
+                        for (int b = b0; b < b1; ++b) {
+                            Box4 below;
+                            split_estimate(tri, a, planes.at[size_t(a)][size_t(b + 1)], rest,
+                                           below);
+                            out.box[size_t(a)][size_t(b)].extend(below);
+                        }
+                        out.box[size_t(a)][size_t(b1)].extend(rest);
+                    }
+                }
+                return out;
+            },
+            [](SpatialBins& x, const SpatialBins& y) { x.merge(y); });
+    }
+
+    /// The parts of `box` ∩ tri below and above the plane at `pos` along axis a, in float
+    /// (Embree's splitter): `box` becomes the part above. Only the binning's estimate of the
+    /// children's surfaces: split_straddlers clips conservatively.
+    static void split_estimate(const TriangleVerts& tri, int a, float pos, Box4& box, Box4& below) {
+        Box4 above;
+        const Vec3f* v[3] = {&tri.v0, &tri.v1, &tri.v2};
+        for (int i = 0; i < 3; ++i) {
+            const Vec3f &p = *v[i], &q = *v[(i + 1) % 3];
+            const vfloat4 pv = vfloat4::setr(p.x, p.y, p.z, 0.f);
+            if (p[a] <= pos) below.extend(pv, pv);
+            if (p[a] >= pos) above.extend(pv, pv);
+            if ((p[a] < pos && pos < q[a]) || (q[a] < pos && pos < p[a])) {
+                const float t = (pos - p[a]) / (q[a] - p[a]);
+                const vfloat4 qv = vfloat4::setr(q.x, q.y, q.z, 0.f);
+                const vfloat4 c = pv + vfloat4(t) * (qv - pv);
+                below.extend(c, c);
+                above.extend(c, c);
+            }
+        }
+        below.lo = max(below.lo, box.lo);
+        below.hi = min(below.hi, box.hi);
+        box.lo = max(above.lo, box.lo);
+        box.hi = min(above.hi, box.hi);
     }
 
     /// The leaf child of range r: its triangles appended to out's blocks, four to a block.
@@ -484,20 +705,24 @@ private:
     static float blocks_of(uint32_t n) { return float((n + 3) / 4); }
 
     std::span<const TriangleVerts> tris_;
-    large_vector<PrimRef> refs_;
+    large_vector<PrimRef> refs_;  ///< The triangles' references, then room for copies.
+    float root_area_ = 0.f;
 };
 
 }  // namespace
 
 template <int W>
-Bvh<W> build_bvh(std::span<const TriangleVerts> triangles) {
+Bvh<W> build_bvh(std::span<const TriangleVerts> triangles, const BvhBuildOptions& options) {
     if (triangles.size() >= bvh_max_triangles)
         throw Error("the bvh tracer takes at most 134,217,727 triangles");
+    // At most 2^28 references: every leaf block stays addressable.
+    if (!(options.spatial_split_budget >= 0.f && options.spatial_split_budget <= 1.f))
+        throw Error("the bvh's spatial split budget must lie in [0, 1]");
     if (triangles.empty()) return {};
-    return WideBuilder<W>(triangles).build();
+    return WideBuilder<W>(triangles, options).build();
 }
 
-template Bvh<4> build_bvh<4>(std::span<const TriangleVerts>);
-template Bvh<8> build_bvh<8>(std::span<const TriangleVerts>);
+template Bvh<4> build_bvh<4>(std::span<const TriangleVerts>, const BvhBuildOptions&);
+template Bvh<8> build_bvh<8>(std::span<const TriangleVerts>, const BvhBuildOptions&);
 
 }  // namespace rtt

@@ -10,6 +10,7 @@ inline namespace RTT_ISA_NS {
 std::unique_ptr<Tracer> make_kernel_tracer(std::string_view kind, const Scene& scene,
                                            const KdTree& tree, const RttOptions& options) {
     if (kind == "bvh") return make_bvh_tracer(scene);
+    if (kind == "bvh-high") return make_bvh_tracer(scene, bvh_high_quality);
     if (kind == "rtt") return std::make_unique<rtt_detail::RttTracer>(scene, tree, options);
     if (kind == "frustum") return make_frustum_tracer(scene, tree);
     if (kind == "packet") return make_packet_tracer<4>(scene, tree);

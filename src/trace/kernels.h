@@ -5,6 +5,7 @@
 #include <memory>
 #include <string_view>
 
+#include "bvh/bvh.h"
 #include "rtt/kdtree.h"
 #include "rtt/rtt_options.h"
 #include "rtt/scene.h"
@@ -24,11 +25,11 @@ std::unique_ptr<Tracer> make_packet_tracer(const Scene& scene, const KdTree& tre
 std::unique_ptr<Tracer> make_frustum_tracer(const Scene& scene, const KdTree& tree);
 
 /// Single rays through a BVH of its own, bvh_width<> children per node (trace_bvh.h); the
-/// kd-tree is not used.
-std::unique_ptr<Tracer> make_bvh_tracer(const Scene& scene);
+/// kd-tree is not used. "bvh", or "bvh-high" with bvh_high_quality.
+std::unique_ptr<Tracer> make_bvh_tracer(const Scene& scene, const BvhBuildOptions& options = {});
 
-/// The tracer `kind` ("bvh", "packet", "packet8", "packet16", "frustum" or "rtt") of this ISA's
-/// kernels, or nullptr when this ISA has no such kind. `options` are RTT's (validated).
+/// The tracer `kind` ("bvh", "bvh-high", "packet", "packet8", "packet16", "frustum" or "rtt") of
+/// this ISA's kernels, or nullptr when this ISA has no such kind. `options` are RTT's (validated).
 std::unique_ptr<Tracer> make_kernel_tracer(std::string_view kind, const Scene& scene,
                                            const KdTree& tree, const RttOptions& options);
 

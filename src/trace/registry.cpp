@@ -67,6 +67,7 @@ const std::vector<TracerEntry>& registry() {
         {"ray", make_ray_tracer},
         {"brute", make_brute_force_tracer, Isa::sse42, false},
         {"bvh", kernels("bvh"), Isa::sse42, false},
+        {"bvh-high", kernels("bvh-high"), Isa::sse42, false},
         {"packet", kernels("packet")},
         {"rtt", kernels("rtt")},
         {"rtt-paper",

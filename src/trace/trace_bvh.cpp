@@ -234,8 +234,10 @@ Hit traverse(const Bvh<W>& bvh, const Ray& ray) {
 template <int W>
 class BvhTracer final : public Tracer {
 public:
-    explicit BvhTracer(const Scene& scene) : bvh_(build_bvh<W>(gather_triangles(scene))) {}
-    std::string_view name() const override { return "bvh"; }
+    BvhTracer(const Scene& scene, const BvhBuildOptions& options)
+        : bvh_(build_bvh<W>(gather_triangles(scene), options)),
+          name_(options.spatial_split_budget > 0.f ? "bvh-high" : "bvh") {}
+    std::string_view name() const override { return name_; }
 
     // A tile's rays travel together: packets (trace_bvh_packets.cpp).
     void intersect(const RayTile& tile, std::span<Hit> hits,
@@ -264,6 +266,7 @@ public:
 
 private:
     Bvh<W> bvh_;
+    std::string_view name_;
 };
 
 }  // namespace
@@ -298,8 +301,8 @@ RTT_INSTANTIATE_BVH(4)
 RTT_INSTANTIATE_BVH(8)
 #endif
 
-std::unique_ptr<Tracer> make_bvh_tracer(const Scene& scene) {
-    return std::make_unique<BvhTracer<bvh_width>>(scene);
+std::unique_ptr<Tracer> make_bvh_tracer(const Scene& scene, const BvhBuildOptions& options) {
+    return std::make_unique<BvhTracer<bvh_width>>(scene, options);
 }
 
 }  // namespace RTT_ISA_NS

@@ -29,7 +29,8 @@ struct BuildTimes {
     double bvh_medium_seconds = -1;           ///< Embree's MEDIUM build (its default).
     double rtt_setup_seconds = 0;  ///< make_bench_tracer("rtt") on a built tree (plane ids, BVH).
     double our_bvh_seconds = 0;    ///< make_tracer("bvh"): the bvh kind's BVH.
-    KdStats kd;                    ///< The last kd-tree built.
+    double our_bvh_high_seconds = 0;  ///< make_tracer("bvh-high"): with spatial splits.
+    KdStats kd;                       ///< The last kd-tree built.
 };
 
 /// Wall seconds of make_bench_tracer(kind, ...).
@@ -43,7 +44,7 @@ double setup_seconds(const std::string& kind, const BenchScene& scene, const KdT
 /// alternating. The scene's own kd-tree, unless it was loaded from a file (`--load-tree`: its
 /// build phases are zero), was built on all cores: with all cores it is the first sample.
 BuildTimes build_times(const BenchScene& scene, int threads, int repetitions) {
-    std::vector<double> kd, bvh, bvh_medium, rtt_setup, our_bvh;
+    std::vector<double> kd, bvh, bvh_medium, rtt_setup, our_bvh, our_bvh_high;
     BuildTimes out;
     out.kd = scene.tree.stats;
     const bool built_here = scene.tree.stats.tree_seconds > 0.0;
@@ -58,6 +59,7 @@ BuildTimes build_times(const BenchScene& scene, int threads, int repetitions) {
             }
             rtt_setup.push_back(setup_seconds("rtt", scene, scene.tree));
             our_bvh.push_back(setup_seconds("bvh", scene, KdTree{}));
+            our_bvh_high.push_back(setup_seconds("bvh-high", scene, KdTree{}));
             if (has_tracer("embree")) {
                 bvh.push_back(
                     embree_build_seconds(*make_tracer("embree", scene.scene, scene.tree)));
@@ -71,6 +73,7 @@ BuildTimes build_times(const BenchScene& scene, int threads, int repetitions) {
     out.bvh_medium_seconds = bvh_medium.empty() ? -1.0 : median_of(bvh_medium);
     out.rtt_setup_seconds = median_of(rtt_setup);
     out.our_bvh_seconds = median_of(our_bvh);
+    out.our_bvh_high_seconds = median_of(our_bvh_high);
     return out;
 }
 
@@ -97,6 +100,7 @@ void add_build_table(const BenchConfig& config, SceneCache& scenes, ExperimentRe
         builds.header.push_back("kd/MEDIUM, " + std::to_string(threads) + "t");
         builds.header.push_back("rtt setup, " + std::to_string(threads) + "t");
         builds.header.push_back("bvh's BVH, " + std::to_string(threads) + "t");
+        builds.header.push_back("bvh-high's, " + std::to_string(threads) + "t");
     }
     builds.header.insert(builds.header.end(), {"kd nodes", "kd references", "kd SAH cost"});
     nlohmann::json build_json = nlohmann::json::array();
@@ -115,6 +119,7 @@ void add_build_table(const BenchConfig& config, SceneCache& scenes, ExperimentRe
                 t.bvh_medium_seconds > 0 ? format_ratio(t.kd_seconds / t.bvh_medium_seconds) : "-");
             row.push_back(format_fixed(t.rtt_setup_seconds, 3));
             row.push_back(format_fixed(t.our_bvh_seconds, 3));
+            row.push_back(format_fixed(t.our_bvh_high_seconds, 3));
             if (t.bvh_seconds > 0)
                 r.findings.push_back(
                     name + ", " + std::to_string(threads) + " thread(s): kd-tree build " +
@@ -127,7 +132,8 @@ void add_build_table(const BenchConfig& config, SceneCache& scenes, ExperimentRe
                                   {"embree_bvh_s", t.bvh_seconds},
                                   {"embree_bvh_medium_s", t.bvh_medium_seconds},
                                   {"rtt_setup_s", t.rtt_setup_seconds},
-                                  {"bvh_s", t.our_bvh_seconds}});
+                                  {"bvh_s", t.our_bvh_seconds},
+                                  {"bvh_high_s", t.our_bvh_high_seconds}});
         }
         row.push_back(format_count(tree.nodes));
         row.push_back(format_count(tree.triangle_references));

@@ -102,7 +102,8 @@ double median_wall(int threads, int reps, F&& f) {
     return t[t.size() / 2];
 }
 
-const std::vector<std::string> exact_kinds = {"ray", "bvh", "packet", "packet16", "rtt"};
+const std::vector<std::string> exact_kinds = {"ray",    "bvh",      "bvh-high",
+                                              "packet", "packet16", "rtt"};
 const std::vector<std::string> embree_kinds = {"embree1", "embree-stream", "embree"};
 
 }  // namespace
