@@ -13,4 +13,4 @@ site=$(find "$work/prefix" -name __init__.py -path '*/rtt/*' -printf '%h\n' | he
 test -n "$site" || { echo "python-tests: the build has no Python module (RTT_WITH_PYTHON)" >&2; exit 1; }
 cd "$work"
 PYTHONPATH=$(dirname "$site") RTT_CLI="$work/prefix/bin/rtt" \
-  /usr/bin/python3 -m pytest -q -p no:cacheprovider "$repo/python/tests"
+  /usr/bin/python3 -m pytest -q -p no:cacheprovider "$repo/python/tests" "$@"

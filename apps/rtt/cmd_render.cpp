@@ -385,8 +385,7 @@ RenderJobResult run_render_job(const RenderJob& job) {
                                                             job.rank_timeout)
                                        : render(scene, *tracer, opt, maps);
         if (writer) write_frame(frame);
-        const RenderStats& st = out.result.stats;
-        bvh_rays += st.primary.trace.rays + st.shadow.trace.rays + st.secondary.trace.rays;
+        bvh_rays += out.result.stats.rays();
     }
     return out;
 }

@@ -77,12 +77,7 @@ std::string default_image_path(const SceneArgs& scene);
 /// "rtt" if this build has it, else "packet", else "ray".
 std::string default_tracer_kind();
 
-/// `--tracer auto`: the soonest exact image (run_render_job says how it picks).
-inline constexpr const char* auto_tracer = "auto";
-/// `auto` builds the kd-tree for `rtt` once `bvh` has traced this many rays per triangle: the
-/// kd-tree and RTT's setup cost 1.1-1.4 us per triangle, `rtt` saves about 5 ns per camera or
-/// shadow ray (docs/benchmarks.md, "First image").
-inline constexpr uint64_t auto_rays_per_triangle = 300;
+// `--tracer auto` (rtt::auto_tracer, auto_rays_per_triangle): run_render_job says how it picks.
 /// True when this build has the kinds `auto` picks from (bvh and rtt).
 bool has_auto_tracer();
 /// `rtt render`'s default: auto where the build has it, else default_tracer_kind().

@@ -109,11 +109,20 @@ struct RenderStats {
     KindStats primary;
     KindStats shadow;     ///< Shadow segments of primary and of reflected hits.
     KindStats secondary;  ///< Reflected rays, all depths.
+    /// Camera rays, shadow segments and reflected rays the tracer was given.
+    uint64_t rays() const { return primary.trace.rays + shadow.trace.rays + secondary.trace.rays; }
     /// Reflected rays per depth: [0] = primary rays, [d] = rays of reflection depth d.
     std::vector<uint64_t> rays_by_depth;
     double wall_seconds = 0;  ///< Whole render, wall clock.
     int threads = 0;          ///< Threads used.
 };
+
+/// The soonest exact image, the default tracer of `rtt render` and rtt.render: frames come from
+/// "bvh" until they have been given this many rays per triangle, then from "rtt" (the same hits
+/// either way). The kd-tree and RTT's setup cost 1.1-1.4 us per triangle and `rtt` saves about
+/// 5 ns per camera or shadow ray (docs/benchmarks.md, "First image").
+inline constexpr const char* auto_tracer = "auto";
+inline constexpr uint64_t auto_rays_per_triangle = 300;
 
 struct RenderResult {
     int width = 0;

@@ -38,8 +38,36 @@ BoundScene::BoundScene(Scene scene, bool geometry_only)
 }
 
 const KdTree& BoundScene::tree() {
-    std::call_once(tree_once_, [&] { tree_ = std::make_unique<KdTree>(build_kdtree(scene_)); });
+    std::call_once(tree_once_, [&] {
+        tree_ = std::make_unique<KdTree>(build_kdtree(scene_));
+        tree_built_ = true;
+    });
     return *tree_;
+}
+
+bool BoundScene::auto_wants_rtt() const {
+    return tree_built_ || auto_rays_ >= auto_rays_per_triangle * scene_.triangle_count();
+}
+
+std::shared_ptr<const Tracer> BoundScene::auto_tracer() {
+    std::lock_guard lock(auto_mutex_);
+    if (!auto_tracer_ || (!auto_rtt_ && auto_wants_rtt())) {
+        // Renders still holding the bvh tracer keep it until they finish.
+        auto_rtt_ = auto_wants_rtt();
+        auto_tracer_ = auto_rtt_ ? make_tracer("rtt", scene_, tree())
+                                 : make_tracer("bvh", scene_, no_kdtree());
+    }
+    return auto_tracer_;
+}
+
+void BoundScene::auto_rendered(uint64_t rays) {
+    std::lock_guard lock(auto_mutex_);
+    auto_rays_ += rays;
+}
+
+std::string BoundScene::auto_kind() {
+    std::lock_guard lock(auto_mutex_);
+    return auto_rtt_ || auto_wants_rtt() ? "rtt" : "bvh";
 }
 
 Camera BoundScene::default_camera() const {

@@ -2,6 +2,8 @@
 // need (under a lock, so Python threads may share the scene), and tracers over it.
 #pragma once
 
+#include <atomic>
+#include <cstdint>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -28,11 +30,27 @@ public:
     /// The camera a render uses when none is given: the scene's, else a diagonal view.
     Camera default_camera() const;
 
+    /// rtt.render's "auto" (rtt::auto_rays_per_triangle): the tracer of the next frame, "bvh"
+    /// until the frames it rendered were given that many rays per triangle or the kd-tree was
+    /// built for another tracer, then "rtt"; each made once and kept while in use (thread-safe).
+    std::shared_ptr<const Tracer> auto_tracer();
+    /// Counts the rays a frame from auto_tracer() was given.
+    void auto_rendered(uint64_t rays);
+    /// The kind auto_tracer() gives next: "bvh" or "rtt".
+    std::string auto_kind();
+
 private:
+    bool auto_wants_rtt() const;  // under auto_mutex_
+
     Scene scene_;
     bool geometry_only_;
     std::once_flag tree_once_;
     std::unique_ptr<KdTree> tree_;
+    std::atomic<bool> tree_built_{false};
+    std::mutex auto_mutex_;
+    std::shared_ptr<const Tracer> auto_tracer_;
+    bool auto_rtt_ = false;  ///< auto_tracer_ is the rtt kind's
+    uint64_t auto_rays_ = 0;
 };
 
 /// Statistics of the last call on a tracer (any thread's); `rtt` stays zero for arbitrary rays

@@ -208,6 +208,10 @@ PYBIND11_MODULE(_rtt, m) {
         .def_property_readonly("name", [](const BoundScene& s) { return s.scene().name; })
         .def("tracer", &tracer_of, "kind"_a = "rtt",
              "A tracer of this kind; the scene's kd-tree is built on the first call and kept.")
+        .def_property_readonly(
+            "auto_kind", &BoundScene::auto_kind,
+            "The kind rtt.render's 'auto' tracer renders this scene's next frame with: 'bvh' "
+            "(its BVH builds soonest) or 'rtt' (once frames have paid for the kd-tree).")
         .def("__repr__", [](const BoundScene& s) {
             return "<rtt.Scene '" + s.scene().name + "' with " +
                    std::to_string(s.scene().triangle_count()) + " triangles>";
@@ -295,11 +299,17 @@ PYBIND11_MODULE(_rtt, m) {
            int height, int aa, const py::object& tracer, const py::object& lights, int max_depth,
            int threads, const py::object& position, const py::object& target, const py::object& up,
            const py::object& fovy) {
-            std::shared_ptr<BoundTracer> bound = py::isinstance<BoundTracer>(tracer)
-                                                     ? tracer.cast<std::shared_ptr<BoundTracer>>()
-                                                     : tracer_of(scene, tracer.cast<std::string>());
-            if (bound->scene() != scene)
-                throw py::value_error("render: the tracer belongs to another scene");
+            // A tracer, a kind, or "auto": the scene's own tracer of the soonest image.
+            std::shared_ptr<BoundTracer> bound;
+            const bool automatic =
+                !py::isinstance<BoundTracer>(tracer) && tracer.cast<std::string>() == auto_tracer;
+            if (!automatic) {
+                bound = py::isinstance<BoundTracer>(tracer)
+                            ? tracer.cast<std::shared_ptr<BoundTracer>>()
+                            : tracer_of(scene, tracer.cast<std::string>());
+                if (bound->scene() != scene)
+                    throw py::value_error("render: the tracer belongs to another scene");
+            }
             const std::optional<Camera> cam = to_camera(camera, position, target, up, fovy);
             std::optional<std::vector<Vec3f>> light_positions;
             if (!lights.is_none()) {
@@ -315,7 +325,14 @@ PYBIND11_MODULE(_rtt, m) {
             {
                 py::gil_scoped_release unlocked;
                 r = values_checked([&] {
-                    return render_like_cli(*scene, bound->tracer(), cam, light_positions, options);
+                    if (bound)
+                        return render_like_cli(*scene, bound->tracer(), cam, light_positions,
+                                               options);
+                    const std::shared_ptr<const Tracer> own = scene->auto_tracer();
+                    RenderResult frame =
+                        render_like_cli(*scene, *own, cam, light_positions, options);
+                    scene->auto_rendered(frame.stats.rays());
+                    return frame;
                 });
             }
             const std::vector<uint8_t> srgb = encode_srgb8(r.pixels);
@@ -325,10 +342,13 @@ PYBIND11_MODULE(_rtt, m) {
             return image;
         },
         "scene"_a, "camera"_a = py::none(), "width"_a = 640, "height"_a = 480, "aa"_a = 1,
-        "tracer"_a = "rtt", "lights"_a = py::none(), "max_depth"_a = 4, "threads"_a = 0,
+        "tracer"_a = auto_tracer, "lights"_a = py::none(), "max_depth"_a = 4, "threads"_a = 0,
         py::kw_only(), "position"_a = py::none(), "target"_a = py::none(), "up"_a = py::none(),
         "fovy"_a = py::none(),
         "Renders like `rtt render`: (H, W, 3) uint8 sRGB, the same pixels for the same scene, "
-        "camera, "
-        "size, aa and lights (positions; they replace the scene's).");
+        "camera, size, aa and lights (positions; they replace the scene's). `tracer`: a Tracer, "
+        "a kind, or 'auto' (the default), the soonest image: frames from the scene's own 'bvh' "
+        "tracer until its frames have traced 300 rays per triangle (or the scene's kd-tree was "
+        "built for another tracer), then from its own 'rtt' (Scene.auto_kind says which is next); "
+        "every kind gives the same pixels.");
 }

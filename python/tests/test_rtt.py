@@ -308,6 +308,27 @@ def test_render_matches_cli_image(tmp_path, rtt_cli):
     np.testing.assert_array_equal(image, decode_png_rgb(tmp_path / "room.png"))
 
 
+def test_render_auto_takes_bvh_then_rtt_with_the_same_pixels():
+    # A 48-triangle scene: rtt takes over once its frames were given 300 * 48 rays.
+    v, t = box_scene(2)
+    reference = rtt.render(rtt.Scene.from_arrays(v, t), width=64, height=48, tracer="rtt", threads=1)
+    s = rtt.Scene.from_arrays(v, t)
+    kinds = []
+    for _ in range(12):
+        kinds.append(s.auto_kind)
+        np.testing.assert_array_equal(rtt.render(s, width=64, height=48, threads=1), reference)
+        if kinds[-1] == "rtt":
+            break
+    assert kinds[0] == "bvh" and kinds[1] == "bvh" and kinds[-1] == "rtt", kinds
+    # A kd-tree built for another tracer is used at once.
+    built = rtt.Scene.from_arrays(v, t)
+    built.tracer("packet")
+    assert built.auto_kind == "rtt"
+    np.testing.assert_array_equal(rtt.render(built, width=64, height=48, threads=1), reference)
+    with pytest.raises(ValueError):
+        rtt.render(s, width=64, height=48, tracer="no-such-kind")
+
+
 def test_threads_share_a_tracer(scene):
     tracer = scene.tracer("rtt")
     batches = [random_rays(3000, seed) for seed in range(8)]
