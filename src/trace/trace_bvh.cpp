@@ -182,11 +182,13 @@ Hit traverse(const Bvh<W>& bvh, const Ray& ray) {
             vfloat<W> near;
             uint32_t mask = br.test(node, ray.tmin, wr.tmax, near);
             if constexpr (AnyHit) {
-                // Any hit ends the ray: no order to keep, no distance to sort by.
+                // Any hit ends the ray: no distance to sort by.
                 if (mask) {
+                    // Children in slot order, the builder's largest surface first: the first
+                    // now, the others pushed from the last so that they pop in that order.
                     cur = node.child[std::countr_zero(mask)];
-                    for (mask &= mask - 1; mask; mask &= mask - 1)
-                        stack[top++] = {node.child[std::countr_zero(mask)], neg_inf};
+                    for (mask &= mask - 1; mask; mask &= ~(0x80000000u >> std::countl_zero(mask)))
+                        stack[top++] = {node.child[31 - std::countl_zero(mask)], neg_inf};
                     continue;
                 }
             } else if (mask) {
