@@ -18,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "bvh/bvh.h"
 #include "core/large_arrays.h"
 #include "geom/triangle.h"
 #include "rtt/error.h"
@@ -222,16 +223,19 @@ std::vector<TriangleVerts> crossing_needles(int n) {
     return t;
 }
 
+struct AdversarialCase {
+    const char* name;
+    std::vector<TriangleVerts> tris;
+};
+
+std::vector<AdversarialCase> adversarial_cases() {
+    return {{"nested towards a point", nested_towards_a_point(20000)},
+            {"crossing needles", crossing_needles(20000)},
+            {"identical", std::vector<TriangleVerts>(200000, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}})}};
+}
+
 TEST(Limits, KdTreeDepthAndSizeStayBoundedOnAdversarialInput) {
-    struct Case {
-        const char* name;
-        std::vector<TriangleVerts> tris;
-    };
-    const std::vector<Case> cases = {
-        {"nested towards a point", nested_towards_a_point(20000)},
-        {"crossing needles", crossing_needles(20000)},
-        {"identical", std::vector<TriangleVerts>(200000, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}})}};
-    for (const Case& c : cases) {
+    for (const AdversarialCase& c : adversarial_cases()) {
         const auto start = Clock::now();
         const KdTree tree = build_kdtree(scene_of(c.tris));
         const double s = seconds_since(start);
@@ -249,6 +253,29 @@ TEST(Limits, KdTreeDepthAndSizeStayBoundedOnAdversarialInput) {
     KdBuildConfig deep;
     deep.max_depth = kd_max_depth + 1;
     EXPECT_THROW(build_kdtree(scene_of(crossing_needles(10)), deep), Error);
+}
+
+TEST(Limits, BvhSizeStaysBoundedOnAdversarialInput) {
+    // Spatial splits copy triangles that cross their planes: never beyond the build's budget,
+    // and every triangle stays listed.
+    for (const AdversarialCase& c : adversarial_cases()) {
+        for (const BvhBuildOptions& options : {BvhBuildOptions{}, bvh_high_quality}) {
+            const auto start = Clock::now();
+            const Bvh<8> bvh = build_bvh<8>(c.tris, options);
+            const double s = seconds_since(start);
+            size_t slots = 0;
+            for (const BvhTriangles4& q : bvh.blocks)
+                for (uint32_t id : q.id) slots += id != invalid_triangle;
+            const double n = double(c.tris.size());
+            std::printf(
+                "[ limits ] %-24s BVH, spatial split budget %.2f: %8zu nodes, %9zu "
+                "references, %.2f s\n",
+                c.name, double(options.spatial_split_budget), bvh.nodes.size(), slots, s);
+            EXPECT_GE(double(slots), n) << c.name;
+            EXPECT_LE(double(slots), n * (1.0 + double(options.spatial_split_budget))) << c.name;
+            EXPECT_LT(s, 20.0 * time_slack) << c.name;
+        }
+    }
 }
 
 // ---- adversarial files: nothing endless or quadratic ---------------------------------------
