@@ -35,15 +35,37 @@ stop_server() {
   wait "$server" 2>/dev/null
   rm -rf "$work"
 }
-# A failure while the server is gone is the server's, not the command's (a CI run once had a
-# viewer fail to open the display it was given): the command runs again on a new server, at
-# most three times. A failure with the server still up is the command's and is returned.
+# Whether the server is up and a client can open its display (xdotool, where installed: a
+# viewer under ctest -j2 was once refused the display :0 its live server had announced).
+display_answers() {
+  kill -0 "$server" 2>/dev/null || return 1
+  command -v xdotool >/dev/null 2>&1 || return 0
+  DISPLAY=":$display" xdotool getdisplaygeometry >/dev/null 2>&1
+}
+# Waits up to 10 s for display_answers.
+wait_for_display() {
+  for _ in $(seq 200); do
+    display_answers && return 0
+    sleep 0.05
+  done
+  return 1
+}
+# A failure while the display does not answer is the server's, not the command's (a CI run
+# once had a viewer fail to open the display it was given): the command runs again on a new
+# server, at most three times. A failure with the display answering is the command's and is
+# returned.
 for attempt in 1 2 3; do
   start_server || exit 1
+  if ! wait_for_display && [ "$attempt" -lt 3 ]; then
+    echo "headless.sh: no client could open :$display; a new server:" >&2
+    cat "$work/errors" >&2
+    stop_server
+    continue
+  fi
   DISPLAY=":$display" "$@" 9>&-
   rc=$?
-  if [ "$rc" -ne 0 ] && ! kill -0 "$server" 2>/dev/null && [ "$attempt" -lt 3 ]; then
-    echo "headless.sh: the X server on :$display exited under the command; again:" >&2
+  if [ "$rc" -ne 0 ] && ! display_answers && [ "$attempt" -lt 3 ]; then
+    echo "headless.sh: the X server on :$display stopped answering under the command; again:" >&2
     cat "$work/errors" >&2
     stop_server
     continue
