@@ -36,8 +36,8 @@ int bins_for(uint32_t n) {
 constexpr float traversal_cost = 1.f, intersection_cost = 2.f;
 constexpr int sah_depth = 64;
 /// The overlap of an object split's children, as a part of the scene's surface, beyond which
-/// spatial splits are tried: Stich et al. take 1e-5; 3e-3 gives nearly the same SAH cost for a
-/// third of the build (docs/benchmarks.md, "Arbitrary rays").
+/// spatial splits are tried: Stich et al. take 1e-5; 3e-3 gives nearly the same SAH cost in
+/// under half the build time (docs/benchmarks.md, "Arbitrary rays").
 constexpr float spatial_overlap = 3e-3f;
 /// Below this many references a node's work stays on one thread.
 constexpr uint32_t parallel_refs = 16384;
