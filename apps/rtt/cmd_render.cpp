@@ -375,7 +375,7 @@ RenderJobResult run_render_job(const RenderJob& job) {
         return out;
     }
     for (size_t frame = 0; frame < frames; ++frame) {
-        if (auto_kind && !out.kd_used && bvh_rays >= auto_rays_per_triangle * out.triangles) {
+        if (auto_kind && !out.kd_used && auto_paid_for_rtt(bvh_rays, out.triangles)) {
             build_tree();
             set_tracer("rtt");
         }

@@ -123,6 +123,10 @@ struct RenderStats {
 /// 5 ns per camera or shadow ray (docs/benchmarks.md, "First image").
 inline constexpr const char* auto_tracer = "auto";
 inline constexpr uint64_t auto_rays_per_triangle = 300;
+/// Whether "auto" has paid for the kd-tree: frames given `rays` over `triangles` triangles.
+inline bool auto_paid_for_rtt(uint64_t rays, uint64_t triangles) {
+    return rays >= auto_rays_per_triangle * triangles;
+}
 
 struct RenderResult {
     int width = 0;

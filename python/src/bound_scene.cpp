@@ -46,7 +46,7 @@ const KdTree& BoundScene::tree() {
 }
 
 bool BoundScene::auto_wants_rtt() const {
-    return tree_built_ || auto_rays_ >= auto_rays_per_triangle * scene_.triangle_count();
+    return tree_built_ || auto_paid_for_rtt(auto_rays_, scene_.triangle_count());
 }
 
 std::shared_ptr<const Tracer> BoundScene::auto_tracer() {

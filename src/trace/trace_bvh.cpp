@@ -187,8 +187,11 @@ Hit traverse(const Bvh<W>& bvh, const Ray& ray) {
                     // Children in slot order, the builder's largest surface first: the first
                     // now, the others pushed from the last so that they pop in that order.
                     cur = node.child[std::countr_zero(mask)];
-                    for (mask &= mask - 1; mask; mask &= ~(0x80000000u >> std::countl_zero(mask)))
-                        stack[top++] = {node.child[31 - std::countl_zero(mask)], neg_inf};
+                    for (mask &= mask - 1; mask;) {
+                        const int last = 31 - std::countl_zero(mask);
+                        stack[top++] = {node.child[last], neg_inf};
+                        mask &= ~(1u << last);
+                    }
                     continue;
                 }
             } else if (mask) {
