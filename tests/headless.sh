@@ -6,7 +6,9 @@
 # clients: two of these never race for a number, and the command never starts before its
 # server is up. (xvfb-run -a guessed a number from the lock files in /tmp, waited for a signal
 # and set up an xauth cookie; under ctest -j2 on fresh machines a client sometimes got
-# "Failed to open display :99".) -ac: no access control, so no cookie to get wrong.
+# "Failed to open display :99".) -ac: no access control, so no cookie to get wrong. -noreset:
+# by default Xvfb resets when its last client leaves, and a client connecting during that reset
+# (the viewer, just after display_answers' probe left) is refused.
 set -u
 # One headless server at a time: the viewer tests run in parallel under ctest -j, and two Xvfb
 # probing display numbers at once once handed a client a number it could not open (sanitizer
@@ -16,7 +18,7 @@ flock 9
 # Starts a server; sets `server`, `work` and `display`, or returns 1 with its messages printed.
 start_server() {
   work=$(mktemp -d)
-  Xvfb -displayfd 3 -screen 0 640x480x24 -nolisten tcp -ac 3>"$work/display" 2>"$work/errors" 9>&- &
+  Xvfb -displayfd 3 -screen 0 640x480x24 -nolisten tcp -ac -noreset 3>"$work/display" 2>"$work/errors" 9>&- &
   server=$!
   display=""
   for _ in $(seq 600); do  # up to 30 s: a sanitizer build under load starts slowly
@@ -50,10 +52,10 @@ wait_for_display() {
   done
   return 1
 }
-# A failure while the display does not answer is the server's, not the command's (a CI run
-# once had a viewer fail to open the display it was given): the command runs again on a new
-# server, at most three times. A failure with the display answering is the command's and is
-# returned.
+# A failure while the display does not answer, or one that says the display could not be
+# opened, is the server's, not the command's (CI runs had a viewer refused the display it was
+# given): the command runs again on a new server, at most three times. Any other failure is the
+# command's and is returned. The command's stderr is kept to tell the two apart.
 for attempt in 1 2 3; do
   start_server || exit 1
   if ! wait_for_display && [ "$attempt" -lt 3 ]; then
@@ -62,10 +64,12 @@ for attempt in 1 2 3; do
     stop_server
     continue
   fi
-  DISPLAY=":$display" "$@" 9>&-
+  DISPLAY=":$display" "$@" 9>&- 2>"$work/stderr"
   rc=$?
-  if [ "$rc" -ne 0 ] && ! display_answers && [ "$attempt" -lt 3 ]; then
-    echo "headless.sh: the X server on :$display stopped answering under the command; again:" >&2
+  cat "$work/stderr" >&2
+  if [ "$rc" -ne 0 ] && [ "$attempt" -lt 3 ] &&
+    { ! display_answers || grep -q 'Failed to open display' "$work/stderr"; }; then
+    echo "headless.sh: the command could not use the X server on :$display; again:" >&2
     cat "$work/errors" >&2
     stop_server
     continue

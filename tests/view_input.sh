@@ -13,9 +13,17 @@ for _ in $(seq 1200); do  # up to a minute: a sanitizer build under load starts 
   # The title becomes the stats line after the first frame: the window then takes input.
   window=$(xdotool search --name '^rtt view [|]' 2>/dev/null | head -1)
   [ -n "$window" ] && break
+  kill -0 "$pid" 2>/dev/null || break  # the viewer has ended without a window
   sleep 0.05
 done
-[ -n "$window" ] || { kill "$pid"; echo "no window appeared" >>"$out"; exit 1; }
+if [ -z "$window" ]; then
+  kill "$pid" 2>/dev/null
+  wait "$pid"
+  # On stderr too: tests/headless.sh runs the script again when the display could not be opened.
+  echo "no window appeared" >>"$out"
+  cat "$out" >&2
+  exit 1
+fi
 xdotool windowfocus --sync "$window"
 sleep 0.3
 step() { "$@"; sleep 0.2; }
