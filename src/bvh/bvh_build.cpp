@@ -615,13 +615,18 @@ private:
     template <typename GoesLeft>
     uint32_t partition(uint32_t first, uint32_t end, GoesLeft&& goes_left, Extent& left,
                        Extent& right) {
+        // Local extents stay in registers (the references' swaps could alias the callers').
+        Extent l = left, r = right;
         uint32_t i = first, j = end;
         for (;;) {
-            while (i < j && goes_left(refs_[i])) left.add(refs_[i++]);
-            while (i < j && !goes_left(refs_[j - 1])) right.add(refs_[--j]);
-            if (i >= j) return i;
+            while (i < j && goes_left(refs_[i])) l.add(refs_[i++]);
+            while (i < j && !goes_left(refs_[j - 1])) r.add(refs_[--j]);
+            if (i >= j) break;
             std::swap(refs_[i], refs_[j - 1]);
         }
+        left = l;
+        right = r;
+        return i;
     }
 
     /// Each reference of r that crosses its spatial plane clipped to both sides: the part
