@@ -182,9 +182,10 @@ TEST(ViewWindow, ScreenshotEqualsRenderOfTheSameCamera) {
     if (!have_xvfb()) GTEST_SKIP() << "Xvfb not installed";
     TempDir dir("view_window");
     const std::string camera = "--camera 2.5,1.2,3.1,0,0.8,0,0,1,0,55";
-    // bvh: a kind the viewer builds no kd-tree for, and its packets' image is every kind's.
-    for (const char* options :
-         {"--aa 1", "--aa 2 --tracer packet16", "--aa 1 --tracer bvh", "--aa 1 --no-shadows"}) {
+    // bvh: a kind the viewer builds no kd-tree for, and its packets' image is every kind's; auto:
+    // `rtt render`'s default, accepted by the viewer too.
+    for (const char* options : {"--aa 1", "--aa 2 --tracer packet16", "--aa 1 --tracer bvh",
+                                "--aa 1 --tracer auto", "--aa 1 --no-shadows"}) {
         SCOPED_TRACE(options);
         const std::string cmd = xvfb + "'" + std::string(RTT_CLI_PATH) + "' view --scene room " +
                                 camera + " --size 96x72 --frames 2 -q --screenshot '" +

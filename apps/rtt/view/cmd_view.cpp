@@ -30,9 +30,10 @@ void add_view_command(CLI::App& app) {
         ->capture_default_str();
     std::string kinds;
     for (const std::string& k : tracer_kinds()) kinds += (kinds.empty() ? "" : ", ") + k;
-    cmd->add_option(
-        "--tracer", o->tracer,
-        "First tracer shown (T cycles): " + kinds + " (default: " + default_tracer_kind() + ")");
+    cmd->add_option("--tracer", o->tracer,
+                    "First tracer shown (T cycles): " + kinds + ", or auto (default: " +
+                        default_tracer_kind() + "; auto is the same: bvh shows the scene until " +
+                        default_tracer_kind() + "'s kd-tree is built)");
     CLI::Option* threads =
         cmd->add_option("--threads", o->threads, "Worker threads (default: all cores)");
     cmd->add_option("--max-depth", o->max_depth, "Mirror reflection depth")->capture_default_str();

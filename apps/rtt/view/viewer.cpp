@@ -17,6 +17,7 @@
 #include "rtt/error.h"
 #include "rtt/io.h"
 #include "rtt/kdtree.h"
+#include "rtt/render.h"
 #include "view/background_kdtree.h"
 #include "view/orbit_camera.h"
 #include "view/view_state.h"
@@ -214,7 +215,10 @@ void run_viewer(const ViewerOptions& o) {
     if (!o.camera.empty()) given = parse_camera(o.camera);
     std::vector<Vec3f> light_positions;
     for (const std::string& l : o.lights) light_positions.push_back(parse_vec3(l, "--light"));
-    const std::string kind = o.tracer.empty() ? cli::default_tracer_kind() : o.tracer;
+    // `auto`, `rtt render`'s default, is what the viewer does for its default kind anyway:
+    // bvh stands in until the kd-tree is built.
+    const std::string kind =
+        o.tracer.empty() || o.tracer == auto_tracer ? cli::default_tracer_kind() : o.tracer;
     check_tracer_kind(kind);
     ViewState state;
     state.tracers = cycled_tracers(kind);
