@@ -368,9 +368,13 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays* const* rays, PacketHi
             store(near, near_w);
             vb live[M];
             for (int m = 0; m < M; ++m) live[m] = part[m].alive & (vf(cur_near) <= part[m].wp.tmax);
-            const int base = top;  // this node's stacked children: nearest on top
+            // This node's stacked children: nearest on top for closest hits; for any hit in slot
+            // order, the builder's likeliest blocker first (bvh_build.cpp, order_for_any_hit).
+            const int base = top;
             bool have = false;
             Entry next{};
+            Entry later[W];
+            int n_later = 0;
             while (bits) {
                 const int c = std::countr_zero(bits);
                 bits &= bits - 1;
@@ -387,11 +391,16 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays* const* rays, PacketHi
                     next = e;
                     continue;
                 }
+                if constexpr (AnyHit) {  // slot order: the builder's likeliest blocker first
+                    later[n_later++] = e;
+                    continue;
+                }
                 if (e.near < next.near) std::swap(e, next);
                 int j = top++;
                 for (; j > base && stack[j - 1].near < e.near; --j) stack[j] = stack[j - 1];
                 stack[j] = e;
             }
+            while (n_later > 0) stack[top++] = later[--n_later];
             if (have) {
                 cur = next.child;
                 cur_near = next.near;
