@@ -184,8 +184,9 @@ Hit traverse(const Bvh<W>& bvh, const Ray& ray) {
             if constexpr (AnyHit) {
                 // Any hit ends the ray: no distance to sort by.
                 if (mask) {
-                    // Children in slot order, the builder's largest surface first: the first
-                    // now, the others pushed from the last so that they pop in that order.
+                    // Children in slot order, the builder's likeliest blocker first
+                    // (order_for_any_hit): the first now, the others pushed from the last so
+                    // that they pop in that order.
                     cur = node.child[std::countr_zero(mask)];
                     for (mask &= mask - 1; mask;) {
                         const int last = 31 - std::countl_zero(mask);
