@@ -1,9 +1,10 @@
 // Binned SAH over triangle centroids (up to 16 bins per axis, fewer in small nodes), W children
-// per node made at once by opening the largest child until W are there (WideBuilder); with a
-// budget, spatial splits too (SBVH: Stich, Friedrich and Dietrich 2009), whose copies of a
-// triangle are clipped to each side conservatively. Large nodes bin in parallel and the subtrees
-// under them are built in parallel on disjoint ranges of references, then laid out in a fixed
-// order, so the tree is the same for any number of threads.
+// per node: near the root by opening the largest child until W are there, below by collapsing
+// the binary tree at the least SAH cost (WideBuilder); with a budget, spatial splits too (SBVH:
+// Stich, Friedrich and Dietrich 2009), whose copies of a triangle are clipped to each side
+// conservatively. Large nodes bin in parallel and the subtrees under them are built in parallel on
+// disjoint ranges of references, then laid out in a fixed order, so the tree is the same for any
+// number of threads.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
@@ -228,12 +229,13 @@ struct SlabPlanes {
     }
 };
 
-/// Builds the W-wide tree directly: a node's range is split in two by binned SAH, and the child
-/// with the largest surface that is not a leaf split again until W children are there, each
-/// range split once. Nodes over at least parallel_refs references are planned first, sibling
-/// subtrees in parallel (plan), then laid out depth first (place); the subtrees under them are
-/// built as tasks, in parallel, and placed after them in the order the tasks were found, so
-/// the layout does not depend on the thread count.
+/// Builds the W-wide tree: a node's range is split in two by binned SAH, each range split once.
+/// Nodes over at least parallel_refs references are planned first, each by splitting the child
+/// with the largest surface that is not a leaf again until W children are there, sibling
+/// subtrees in parallel (plan), then laid out depth first (place). The subtrees under them are
+/// built as tasks, each its binary tree collapsed into wide nodes (make_node), in parallel, and
+/// placed after them in the order the tasks were found, so the layout does not depend on the
+/// thread count.
 template <int W>
 class WideBuilder {
 public:
@@ -467,8 +469,9 @@ private:
     /// surface, Cauchy's formula for random lines, summed) per triangle it must test, highest
     /// first: a cheap likely blocker before a costly unlikely one (Ize and Hansen 2011 order
     /// occlusion rays by such a ratio). Closest-hit rays sort the children by distance anyway;
-    /// docs/benchmarks.md, "Arbitrary rays", has the measurement.
-    static void order_for_any_hit(Range* kids, int n) {
+    /// docs/benchmarks.md, "Arbitrary rays", has the measurement. `tags`, if given, go with
+    /// their kids.
+    static void order_for_any_hit(Range* kids, int n, int* tags = nullptr) {
         double key[W];
         int order[W];
         for (int i = 0; i < n; ++i) {
@@ -479,8 +482,13 @@ private:
         }
         std::stable_sort(order, order + n, [&](int a, int b) { return key[a] > key[b]; });
         Range sorted[W];
-        for (int i = 0; i < n; ++i) sorted[i] = kids[order[i]];
+        int sorted_tags[W];
+        for (int i = 0; i < n; ++i) {
+            sorted[i] = kids[order[i]];
+            if (tags) sorted_tags[i] = tags[order[i]];
+        }
         std::copy(sorted, sorted + n, kids);
+        if (tags) std::copy(sorted_tags, sorted_tags + n, tags);
     }
 
     /// The children of a node of at least parallel_refs references (or the root), and the
@@ -541,13 +549,104 @@ private:
         }
     }
 
-    /// Writes the subtree over the inner range r from out.nodes[index] on, depth first.
+    /// A range of the binary tree a subtree is collapsed from (a leaf or a node, as the binary
+    /// tree has it), and its subtree's least SAH cost as up to i roots side by side
+    /// (cost[i - 1]) and how that is reached.
+    struct BinaryNode {
+        Range range;
+        int left = -1, right = -1;  ///< -1: not split (a leaf)
+        float cost[W];
+        /// For i >= 2 roots: the roots the left side takes (split[i - 1]), 0 for i - 1 roots.
+        uint8_t split[W];
+        uint8_t node_split = 1;  ///< The left side's roots among the W children of a node here.
+    };
+
+    /// Writes the subtree over the inner range r from out.nodes[index] on, depth first: its
+    /// binary SAH tree is built whole, then collapsed into W-wide nodes at the least SAH cost
+    /// (Ylitie, Karras and Laine 2017). Opening the largest child instead, as the nodes above
+    /// do, left most of the lowest nodes with two or three leaves (docs/benchmarks.md,
+    /// "Arbitrary rays").
     void make_node(const Range& r, uint32_t index, Bvh<W>& out) {
+        std::vector<BinaryNode> tree;
+        grow(r, tree);
+        write_collapsed(tree, 0, index, out);
+    }
+
+    /// Appends the binary tree over r to `tree` (r first) with every cost; returns r's index.
+    int grow(const Range& r, std::vector<BinaryNode>& tree) {
+        const int at = int(tree.size());
+        tree.push_back({r});
+        if (!r.leaf) {
+            Range left, right;
+            open(r, left, right);
+            const int l = grow(left, tree);
+            const int h = grow(right, tree);
+            tree[size_t(at)].left = l;
+            tree[size_t(at)].right = h;
+        }
+        BinaryNode& b = tree[size_t(at)];
+        const float area = r.ext.box.half_area();
+        if (b.left < 0) {
+            std::fill(b.cost, b.cost + W, area * intersection_cost * blocks_of(r.size()));
+            std::fill(b.split, b.split + W, uint8_t(0));
+            return at;
+        }
+        const BinaryNode &l = tree[size_t(b.left)], &h = tree[size_t(b.right)];
+        // The cheapest way to put i roots side by side: k from the left side, i - k from the
+        // right.
+        const auto spread = [&](int i, int& best_k) {
+            float best = pos_inf;
+            best_k = 1;
+            for (int k = 1; k < i; ++k) {
+                const float c = l.cost[k - 1] + h.cost[i - k - 1];
+                if (c < best) {
+                    best = c;
+                    best_k = k;
+                }
+            }
+            return best;
+        };
+        // A range the binary tree splits is a node: as a leaf it would no longer hold its
+        // references where copies were made below it (they moved). The binary SAH found the
+        // split cheaper than a leaf, and the node costs no more than the split.
+        int k = 1;
+        b.cost[0] = area * traversal_cost + spread(W, k);
+        b.node_split = uint8_t(k);
+        b.split[0] = 0;
+        for (int i = 2; i <= W; ++i) {
+            const float c = spread(i, k);
+            const bool more = c < b.cost[i - 2];
+            b.cost[i - 1] = more ? c : b.cost[i - 2];
+            b.split[i - 1] = more ? uint8_t(k) : uint8_t(0);
+        }
+        return at;
+    }
+
+    /// Appends to ids[n...] the roots of tree[at] as up to i side by side.
+    static void roots(const std::vector<BinaryNode>& tree, int at, int i, int* ids, int& n) {
+        const BinaryNode& b = tree[size_t(at)];
+        while (i > 1 && b.split[i - 1] == 0) --i;
+        if (i == 1) {
+            ids[n++] = at;
+            return;
+        }
+        const int k = b.split[i - 1];
+        roots(tree, b.left, k, ids, n);
+        roots(tree, b.right, i - k, ids, n);
+    }
+
+    /// Writes tree[at] as a node at out.nodes[index], and the nodes under it depth first.
+    void write_collapsed(const std::vector<BinaryNode>& tree, int at, uint32_t index, Bvh<W>& out) {
+        const BinaryNode& b = tree[size_t(at)];
+        int ids[W], n = 0;
+        roots(tree, b.left, b.node_split, ids, n);
+        roots(tree, b.right, W - b.node_split, ids, n);
         Range kids[W];
-        const int n = children(r, kids);
+        for (int i = 0; i < n; ++i) kids[i] = tree[size_t(ids[i])].range;
+        order_for_any_hit(kids, n, ids);
         const uint32_t slotted = write_node(kids, n, index, out, [](int) { return true; });
         for (int i = 0; i < n; ++i)
-            if ((slotted >> i) & 1u) make_node(kids[i], out.nodes[index].child[i], out);
+            if ((slotted >> i) & 1u) write_collapsed(tree, ids[i], out.nodes[index].child[i], out);
     }
 
     /// Builds the tasks' subtrees after out's nodes and blocks, in task order: in parallel into
