@@ -6,6 +6,7 @@
 // disjoint ranges of references, then laid out in a fixed order, so the tree is the same for any
 // number of threads.
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
@@ -567,7 +568,10 @@ private:
     /// do, left most of the lowest nodes with two or three leaves (docs/benchmarks.md,
     /// "Arbitrary rays").
     void make_node(const Range& r, uint32_t index, Bvh<W>& out) {
-        std::vector<BinaryNode> tree;
+        // Each thread's binary tree reuses its memory from task to task (fresh pages cost
+        // about a millisecond per MB on these VMs).
+        std::vector<BinaryNode>& tree = binary_trees_.local();
+        tree.clear();
         grow(r, tree);
         write_collapsed(tree, 0, index, out);
     }
@@ -840,6 +844,7 @@ private:
 
     std::span<const TriangleVerts> tris_;
     large_vector<PrimRef> refs_;  ///< The triangles' references, then room for copies.
+    tbb::enumerable_thread_specific<std::vector<BinaryNode>> binary_trees_;
     float root_area_ = 0.f;
 };
 
