@@ -1,5 +1,5 @@
 // Bounding volume hierarchies for arbitrary rays (the "bvh" and "bvh-high" tracers,
-// trace_bvh.cpp): binned SAH, W children per node (4 for SSE kernels, 8 for AVX2 and AVX-512).
+// trace_bvh.cpp): binned SAH, W children per node (4 for SSE kernels, 8 for AVX2, 16 for AVX-512).
 // Without spatial splits each triangle is listed once, in one leaf, and node boxes are the exact
 // bounds of what is under them; with them a triangle may be listed in several leaves, each copy's
 // box holding its part of the triangle (rounded outward). docs/design.md, "The BVH for arbitrary

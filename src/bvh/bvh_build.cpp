@@ -560,6 +560,9 @@ private:
         /// For i >= 2 roots: the roots the left side takes (split[i - 1]), 0 for i - 1 roots.
         uint8_t split[W];
         uint8_t node_split = 1;  ///< The left side's roots among the W children of a node here.
+        /// The most roots the subtree can stand as: its leaves, at most W (cost and split past
+        /// it repeat the last).
+        uint8_t most = 1;
     };
 
     /// Writes the subtree over the inner range r from out.nodes[index] on, depth first: its
@@ -596,12 +599,14 @@ private:
             return at;
         }
         const BinaryNode &l = tree[size_t(b.left)], &h = tree[size_t(b.right)];
-        // The cheapest way to put i roots side by side: k from the left side, i - k from the
-        // right.
+        const int most = std::min(W, l.most + h.most);
+        b.most = uint8_t(most);
+        // The cheapest way to put i <= most roots side by side: k from the left side, i - k from
+        // the right, each side at most its own most (beyond, its costs repeat).
         const auto spread = [&](int i, int& best_k) {
             float best = pos_inf;
-            best_k = 1;
-            for (int k = 1; k < i; ++k) {
+            best_k = std::max(1, i - h.most);
+            for (int k = best_k; k <= std::min(i - 1, int(l.most)); ++k) {
                 const float c = l.cost[k - 1] + h.cost[i - k - 1];
                 if (c < best) {
                     best = c;
@@ -614,11 +619,11 @@ private:
         // references where copies were made below it (they moved). The binary SAH found the
         // split cheaper than a leaf, and the node costs no more than the split.
         int k = 1;
-        b.cost[0] = area * traversal_cost + spread(W, k);
+        b.cost[0] = area * traversal_cost + spread(most, k);
         b.node_split = uint8_t(k);
         b.split[0] = 0;
         for (int i = 2; i <= W; ++i) {
-            const float c = spread(i, k);
+            const float c = i <= most ? spread(i, k) : pos_inf;
             const bool more = c < b.cost[i - 2];
             b.cost[i - 1] = more ? c : b.cost[i - 2];
             b.split[i - 1] = more ? uint8_t(k) : uint8_t(0);
@@ -863,5 +868,6 @@ Bvh<W> build_bvh(std::span<const TriangleVerts> triangles, const BvhBuildOptions
 
 template Bvh<4> build_bvh<4>(std::span<const TriangleVerts>, const BvhBuildOptions&);
 template Bvh<8> build_bvh<8>(std::span<const TriangleVerts>, const BvhBuildOptions&);
+template Bvh<16> build_bvh<16>(std::span<const TriangleVerts>, const BvhBuildOptions&);
 
 }  // namespace rtt

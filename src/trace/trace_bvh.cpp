@@ -306,6 +306,9 @@ RTT_INSTANTIATE_BVH(4)
 #ifdef RTT_HAVE_SIMD8
 RTT_INSTANTIATE_BVH(8)
 #endif
+#ifdef RTT_HAVE_SIMD16
+RTT_INSTANTIATE_BVH(16)
+#endif
 
 std::unique_ptr<Tracer> make_bvh_tracer(const Scene& scene, const BvhBuildOptions& options) {
     return std::make_unique<BvhTracer<bvh_width>>(scene, options);

@@ -15,8 +15,10 @@
 namespace rtt {
 inline namespace RTT_ISA_NS {
 
-/// Children per node of this ISA's kernel: 8 where nodes are tested with 8-lane vectors.
-inline constexpr int bvh_width = simd_max_width >= 8 ? 8 : 4;
+/// Children per node of this ISA's kernel: one node test is one vector of the ISA's widest (16
+/// children on AVX-512 ran single rays 11-29 % faster than 8; docs/benchmarks.md, "Arbitrary
+/// rays").
+inline constexpr int bvh_width = simd_max_width;
 
 /// Byte offsets in a BvhNode<W> of the faces rays enter and leave by on each axis: lo then hi,
 /// or hi then lo where the rays' direction is negative (bit a of `negative`).
