@@ -2,6 +2,7 @@
 // ray batches (intersect_rays, visible_rays) on every tracer kind, and their errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "rtt/kdtree.h"
 #include "rtt/rtt_options.h"
 #include "rtt/tracer.h"
+#include "trace/ray_order.h"
 #include "triangle_soup.h"
 
 namespace rtt {
@@ -155,6 +157,78 @@ TEST(LibraryApi, VisibleRaysAgreeWithClosestHits) {
         EXPECT_EQ(mismatches, 0u) << kind;
         EXPECT_EQ(stats.rays, rays.size()) << kind;
     }
+}
+
+// A batch of reorder_min_rays or more is traced grouped by octant and origin (ray_order.h):
+// every ray still gets its own answer, closest hit and visibility, on every kind.
+TEST(LibraryApi, ReorderedBatchesGiveEachRayItsOwnAnswer) {
+    const Scene scene = test_scene();
+    const KdTree tree = build_kdtree(scene);
+    const std::vector<Ray> rays = random_rays(scene.bounds(), reorder_min_rays + 3001, 23);
+    ASSERT_FALSE(coherent_order(rays).empty());
+    // The reference one ray after another, in the caller's order.
+    const auto reference = make_tracer("ray", scene, tree);
+    std::vector<Hit> expected(rays.size());
+    for (size_t i = 0; i < rays.size(); ++i)
+        reference->intersect_arbitrary(std::span(&rays[i], 1), std::span(&expected[i], 1));
+    for (const std::string& kind : tracer_kinds()) {
+        if (differential::tie_breaks_differ(kind)) continue;
+        const auto tracer = make_tracer(kind, scene, tree);
+        std::vector<Hit> got(rays.size());
+        std::vector<uint8_t> visible(rays.size());
+        TraceStats stats;
+        intersect_rays(*tracer, rays, got, &stats);
+        visible_rays(*tracer, rays, visible);
+        size_t closest_mismatches = 0, visible_mismatches = 0;
+        for (size_t i = 0; i < rays.size(); ++i) {
+            closest_mismatches += !(got[i] == expected[i]);
+            visible_mismatches += visible[i] != !expected[i].valid();
+        }
+        EXPECT_EQ(closest_mismatches, 0u) << kind;
+        EXPECT_EQ(visible_mismatches, 0u) << kind;
+        EXPECT_EQ(stats.rays, rays.size()) << kind;
+    }
+}
+
+TEST(LibraryApi, CoherentOrderGroupsByOctantThenOrigin) {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(-1.f, 1.f);
+    std::vector<Ray> rays(reorder_min_rays);
+    for (Ray& r : rays) r = Ray{{u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}};
+    EXPECT_TRUE(coherent_order(std::span(rays).first(reorder_min_rays - 1)).empty());
+    const auto is_permutation = [](const large_vector<uint32_t>& order) {
+        std::vector<uint32_t> sorted(order.begin(), order.end());
+        std::sort(sorted.begin(), sorted.end());
+        for (size_t i = 0; i < sorted.size(); ++i)
+            if (sorted[i] != i) return false;
+        return true;
+    };
+    // Origins whose extent overflows float: that axis is one cell, and nothing overflows.
+    std::vector<Ray> far = rays;
+    far[7].org.x = -3e38f;
+    far[8].org.x = 3e38f;
+    const auto far_order = coherent_order(far);
+    EXPECT_EQ(far_order.size(), far.size());
+    EXPECT_TRUE(is_permutation(far_order));
+    const auto order = coherent_order(rays);
+    ASSERT_EQ(order.size(), rays.size());
+    EXPECT_TRUE(is_permutation(order));
+    const auto octant = [](const Ray& r) {
+        return int(r.dir.x < 0.f) | int(r.dir.y < 0.f) << 1 | int(r.dir.z < 0.f) << 2;
+    };
+    size_t octant_changes = 0;
+    for (size_t i = 1; i < order.size(); ++i) {
+        EXPECT_LE(octant(rays[order[i - 1]]), octant(rays[order[i]]));
+        octant_changes += octant(rays[order[i - 1]]) != octant(rays[order[i]]);
+    }
+    EXPECT_EQ(octant_changes, 7u);
+    // Neighbours in the order start closer together than neighbours in the caller's order.
+    double apart_in_order = 0, apart_as_given = 0;
+    for (size_t i = 10; i < order.size(); ++i) {
+        apart_in_order += length(rays[order[i]].org - rays[order[i - 1]].org);
+        apart_as_given += length(rays[i].org - rays[i - 1].org);
+    }
+    EXPECT_LT(apart_in_order * 4, apart_as_given);
 }
 
 TEST(LibraryApi, RayBatchesRefuseBadInput) {

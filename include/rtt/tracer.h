@@ -121,15 +121,22 @@ public:
     /// tracers with an any-hit traversal override it.
     virtual void visible_arbitrary(std::span<const Ray> rays, std::span<uint8_t> visible,
                                    TraceStats* stats = nullptr) const;
+
+    /// Whether intersect_rays and visible_rays trace a large batch grouped by direction and
+    /// origin rather than in the caller's order (the answers are the same). Embree's kinds keep
+    /// the caller's order: they stand for Embree as its users call it.
+    virtual bool reorders_batches() const { return true; }
 };
 
 /// Closest hits of arbitrary rays (any origins, directions and [tmin, tmax]): hits[i] for
-/// rays[i], through Tracer::intersect_arbitrary on chunks of consecutive rays (packet tracers
-/// trace them as packets, so rays that are neighbours in the array should be neighbours in
-/// space; `rtt` and `bvh` trace them one by one through a BVH). Runs on the calling thread's oneTBB
-/// arena (limit it with tbb::global_control or a tbb::task_arena); the answers do not depend on the
-/// thread count. Throws rtt::Error when the spans differ in size or a ray has a NaN or infinite
-/// value, a zero direction or tmin > tmax.
+/// rays[i], through Tracer::intersect_arbitrary on chunks of rays (packet tracers trace them as
+/// packets, so rays that are neighbours in the array should be neighbours in space; `rtt` and
+/// `bvh` trace them one by one through a BVH). A batch of 16,384 rays or more goes in chunks
+/// grouped by direction octant and origin (reorders_batches()), so that rays sharing the tree's
+/// nodes follow each other; a smaller one in chunks of consecutive rays. Runs on the calling
+/// thread's oneTBB arena (limit it with tbb::global_control or a tbb::task_arena); the answers do
+/// not depend on the thread count. Throws rtt::Error when the spans differ in size or a ray has a
+/// NaN or infinite value, a zero direction or tmin > tmax.
 void intersect_rays(const Tracer& tracer, std::span<const Ray> rays, std::span<Hit> hits,
                     TraceStats* stats = nullptr);
 

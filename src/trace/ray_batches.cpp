@@ -1,14 +1,18 @@
-// Arbitrary rays: chunks of consecutive rays handed to Tracer::intersect_arbitrary and
-// visible_arbitrary in parallel (by default one-row tiles without a shaft).
+// Arbitrary rays: chunks of rays handed to Tracer::intersect_arbitrary and visible_arbitrary in
+// parallel (by default one-row tiles without a shaft); a large batch in the order of
+// ray_order.h, a small one as it comes.
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "rtt/error.h"
 #include "rtt/tracer.h"
+#include "trace/ray_order.h"
 
 namespace rtt {
 namespace {
@@ -17,37 +21,68 @@ namespace {
 /// to spread over threads.
 constexpr size_t chunk_rays = 1024;
 
+/// The first of `rays` that is not a ray (a NaN or infinite value, a zero direction, tmin > tmax),
+/// with what is wrong with it; rays.size() when all are rays.
+std::pair<size_t, const char*> first_bad_ray(std::span<const Ray> rays) {
+    const auto bad = [](const Ray& r) -> const char* {
+        if (!is_finite(r.org) || !is_finite(r.dir))
+            return " has a NaN or infinite origin or direction";
+        if (r.dir == Vec3f{0.f}) return " has a zero direction";
+        if (std::isnan(r.tmin) || std::isnan(r.tmax) || !(r.tmin <= r.tmax))
+            return " has tmin > tmax or a NaN bound";
+        return nullptr;
+    };
+    // In parallel: a serial pass cost as much as ordering the batch (ray_order.h).
+    return tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(0, rays.size(), 4096),
+        std::pair<size_t, const char*>{rays.size(), nullptr},
+        [&](const tbb::blocked_range<size_t>& r, std::pair<size_t, const char*> first) {
+            for (size_t i = r.begin(); i != r.end() && i < first.first; ++i)
+                if (const char* what = bad(rays[i])) return std::pair<size_t, const char*>{i, what};
+            return first;
+        },
+        [](const auto& a, const auto& b) { return a.first <= b.first ? a : b; });
+}
+
 void check_rays(std::span<const Ray> rays, size_t outputs, const char* output) {
     if (outputs != rays.size())
         throw Error(std::string(output) + " holds " + std::to_string(outputs) + " entries for " +
                     std::to_string(rays.size()) + " rays");
-    // The message is made only for a bad ray: a string per ray cost as much as a BVH node test.
-    const auto fail = [](size_t i, const char* what) {
+    if (const auto [i, what] = first_bad_ray(rays); what)
         throw Error("ray " + std::to_string(i) + what);
-    };
-    for (size_t i = 0; i < rays.size(); ++i) {
-        const Ray& r = rays[i];
-        if (!is_finite(r.org) || !is_finite(r.dir))
-            fail(i, " has a NaN or infinite origin or direction");
-        if (r.dir == Vec3f{0.f}) fail(i, " has a zero direction");
-        if (std::isnan(r.tmin) || std::isnan(r.tmax) || !(r.tmin <= r.tmax))
-            fail(i, " has tmin > tmax or a NaN bound");
-    }
 }
 
-/// Calls trace(chunk, first) for every chunk of `rays` in parallel and sums the statistics.
+/// Calls trace(chunk, positions, stats) for every chunk of `rays` in parallel, where chunk[k]
+/// is rays[positions[k]]: consecutive rays, or gathered in the tracer's order (ray_order.h)
+/// where it takes one. Sums the statistics.
 template <typename Trace>
-void for_each_chunk(std::span<const Ray> rays, TraceStats* stats, const Trace& trace) {
+void for_each_chunk(const Tracer& tracer, std::span<const Ray> rays, TraceStats* stats,
+                    const Trace& trace) {
+    const large_vector<uint32_t> order =
+        tracer.reorders_batches() ? coherent_order(rays) : large_vector<uint32_t>{};
     tbb::combinable<TraceStats> partial;
     const size_t chunks = (rays.size() + chunk_rays - 1) / chunk_rays;
-    tbb::parallel_for(
-        tbb::blocked_range<size_t>(0, chunks), [&](const tbb::blocked_range<size_t>& r) {
-            for (size_t c = r.begin(); c != r.end(); ++c) {
-                const size_t first = c * chunk_rays;
-                const size_t n = std::min(chunk_rays, rays.size() - first);
-                trace(rays.subspan(first, n), first, stats ? &partial.local() : nullptr);
-            }
-        });
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                          uint32_t positions[chunk_rays];
+                          Ray gathered[chunk_rays];
+                          for (size_t c = r.begin(); c != r.end(); ++c) {
+                              const size_t first = c * chunk_rays;
+                              const size_t n = std::min(chunk_rays, rays.size() - first);
+                              std::span<const Ray> chunk = rays.subspan(first, n);
+                              if (order.empty()) {
+                                  for (size_t k = 0; k < n; ++k) positions[k] = uint32_t(first + k);
+                              } else {
+                                  for (size_t k = 0; k < n; ++k) {
+                                      positions[k] = order[first + k];
+                                      gathered[k] = rays[positions[k]];
+                                  }
+                                  chunk = std::span<const Ray>(gathered, n);
+                              }
+                              trace(chunk, std::span<const uint32_t>(positions, n),
+                                    stats ? &partial.local() : nullptr);
+                          }
+                      });
     if (stats) partial.combine_each([&](const TraceStats& s) { *stats += s; });
 }
 
@@ -71,17 +106,23 @@ void Tracer::visible_arbitrary(std::span<const Ray> rays, std::span<uint8_t> vis
 void intersect_rays(const Tracer& tracer, std::span<const Ray> rays, std::span<Hit> hits,
                     TraceStats* stats) {
     check_rays(rays, hits.size(), "hits");
-    for_each_chunk(rays, stats, [&](std::span<const Ray> chunk, size_t first, TraceStats* st) {
-        tracer.intersect_arbitrary(chunk, hits.subspan(first, chunk.size()), st);
-    });
+    for_each_chunk(tracer, rays, stats,
+                   [&](std::span<const Ray> chunk, std::span<const uint32_t> at, TraceStats* st) {
+                       Hit out[chunk_rays];
+                       tracer.intersect_arbitrary(chunk, std::span<Hit>(out, chunk.size()), st);
+                       for (size_t k = 0; k < chunk.size(); ++k) hits[at[k]] = out[k];
+                   });
 }
 
 void visible_rays(const Tracer& tracer, std::span<const Ray> rays, std::span<uint8_t> visible,
                   TraceStats* stats) {
     check_rays(rays, visible.size(), "visible");
-    for_each_chunk(rays, stats, [&](std::span<const Ray> chunk, size_t first, TraceStats* st) {
-        tracer.visible_arbitrary(chunk, visible.subspan(first, chunk.size()), st);
-    });
+    for_each_chunk(tracer, rays, stats,
+                   [&](std::span<const Ray> chunk, std::span<const uint32_t> at, TraceStats* st) {
+                       uint8_t out[chunk_rays];
+                       tracer.visible_arbitrary(chunk, std::span<uint8_t>(out, chunk.size()), st);
+                       for (size_t k = 0; k < chunk.size(); ++k) visible[at[k]] = out[k];
+                   });
 }
 
 }  // namespace rtt

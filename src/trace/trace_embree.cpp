@@ -172,6 +172,7 @@ public:
     }
 
     std::string_view name() const override { return embree_kind_name(mode_, medium_); }
+    bool reorders_batches() const override { return false; }
     double build_seconds() const override { return build_seconds_; }
     size_t memory_bytes() const override {
         return size_t(std::max<int64_t>(log_->bytes.load(), 0));
