@@ -213,6 +213,15 @@ TEST(LibraryApi, CoherentOrderGroupsByOctantThenOrigin) {
     const auto order = coherent_order(rays);
     ASSERT_EQ(order.size(), rays.size());
     EXPECT_TRUE(is_permutation(order));
+    // Rays that already come in their origins' order are traced as they come: all from one
+    // point (a camera's), or sorted along x.
+    std::vector<Ray> camera = rays, along_x = rays;
+    for (Ray& r : camera) r.org = {0.5f, 0.5f, 0.5f};
+    EXPECT_TRUE(coherent_order(camera).empty());
+    std::sort(along_x.begin(), along_x.end(),
+              [](const Ray& a, const Ray& b) { return a.org.x < b.org.x; });
+    for (size_t i = 0; i < along_x.size(); ++i) along_x[i].org.y = along_x[i].org.z = 0.f;
+    EXPECT_TRUE(coherent_order(along_x).empty());
     const auto octant = [](const Ray& r) {
         return int(r.dir.x < 0.f) | int(r.dir.y < 0.f) << 1 | int(r.dir.z < 0.f) << 2;
     };

@@ -1,10 +1,12 @@
-"""Rays per second of Tracer.intersect from Python, and what the module adds to the library.
+"""Rays per second of Tracer.intersect and Tracer.visible from Python, against Embree's single rays.
 
-For 1M coherent rays (a camera's, in sample order) and 1M random rays, prints the wall time of
-the Python call and the time spent inside the library (last_stats['seconds']: intersect_rays
-alone); the difference is the module's overhead (array checks, conversion, result arrays).
+For 1M coherent rays (a camera's, in sample order) and 1M random rays (origins in the middle 90 %
+of the scene's box, towards random points of it), prints each kind's rate, the time spent inside
+the library (last_stats['seconds']: the C++ batch call alone) and the module's overhead (array
+checks, conversion, result arrays), and the kind's speed over `embree1`'s (Embree's rtcIntersect1 /
+rtcOccluded1 per ray, as trimesh, Open3D and embreex call it) where the build has Embree.
 
-    /usr/bin/python3 python/bench/bench_intersect.py [scene] [--threads N]
+    /usr/bin/python3 python/bench/bench_intersect.py [scene] [--threads N] [--kinds rtt,bvh,embree1]
 """
 import argparse
 import time
@@ -14,13 +16,13 @@ import numpy as np
 import rtt
 
 
-def measure(tracer, origins, directions, threads, reps):
+def measure(call, reps):
+    """Best wall time of `reps` calls, and the library's own seconds in that call."""
     best = None
     for _ in range(reps):
         start = time.perf_counter()
-        tracer.intersect(origins, directions, threads=threads)
+        inside = call()
         wall = time.perf_counter() - start
-        inside = tracer.last_stats["seconds"]
         if best is None or wall < best[0]:
             best = (wall, inside)
     return best
@@ -28,12 +30,14 @@ def measure(tracer, origins, directions, threads, reps):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("scene", nargs="?", default="room")
+    parser.add_argument("scene", nargs="?", default="room", help="a built-in scene or a scene file")
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--reps", type=int, default=3)
+    parser.add_argument("--kinds", default="rtt,bvh,embree1", help="comma-separated tracer kinds")
     args = parser.parse_args()
 
     scene = rtt.load(args.scene)
+    kinds = [k for k in args.kinds.split(",") if k in rtt.tracer_kinds()]
     lo, hi = scene.bounds
     origin, dirs = rtt.camera_rays([*(lo + (hi - lo) * [0.9, 0.6, 0.9]), *((lo + hi) / 2), 0, 1, 0, 60],
                                    1000, 1000)
@@ -45,13 +49,24 @@ def main():
 
     print(f"rtt {rtt.__version__}, scene {args.scene} ({scene.triangle_count} triangles), "
           f"{args.threads} thread(s), best of {args.reps}")
-    print(f"{'rays':10} {'kind':8} {'Mrays/s':>8} {'library s':>10} {'python s':>9} {'overhead':>9}")
+    print(f"{'rays':10} {'query':9} {'kind':8} {'Mrays/s':>8} {'library s':>10} {'python s':>9} "
+          f"{'overhead':>9} {'/ embree1':>9}")
+    tracers = {kind: scene.tracer(kind) for kind in kinds}
     for label, (o, d) in [("coherent", coherent), ("random", random)]:
-        for kind in ["packet", "rtt"]:
-            wall, inside = measure(scene.tracer(kind), o, d, args.threads, args.reps)
-            print(f"{label:10} {kind:8} {len(d) / wall * 1e-6:8.2f} {inside:10.3f} {wall:9.3f} "
-                  f"{(wall - inside) / wall * 100:8.1f}%")
+        for query in ["intersect", "visible"]:
+            times = {}
+            for kind, tracer in tracers.items():
+                method = getattr(tracer, query)
 
+                def call():
+                    method(o, d, threads=args.threads)
+                    return tracer.last_stats["seconds"]
+
+                times[kind] = measure(call, args.reps)
+            for kind, (wall, inside) in times.items():
+                ratio = f"{times['embree1'][0] / wall:.2f}x" if "embree1" in times else "-"
+                print(f"{label:10} {query:9} {kind:8} {len(d) / wall * 1e-6:8.2f} {inside:10.3f} "
+                      f"{wall:9.3f} {(wall - inside) / wall * 100:8.1f}% {ratio:>9}")
 
 if __name__ == "__main__":
     main()

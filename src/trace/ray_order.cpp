@@ -60,6 +60,20 @@ large_vector<uint32_t> coherent_order(std::span<const Ray> rays) {
     const auto cell = [top](float position) {
         return position < float(top) ? uint32_t(position) : top;
     };
+    const auto morton_of = [&](const Vec3f& org) {
+        const Vec3f at = (org - lo) * scale;
+        return spread3.of[cell(at.x)] << 2 | spread3.of[cell(at.y)] << 1 | spread3.of[cell(at.z)];
+    };
+    // Rays that already follow their origins (a frame's bounces in pixel order, a camera's rays)
+    // are traced as they come: grouping them saved nothing and the gathering cost 5-10 %
+    // (docs/benchmarks.md). Judged on pairs of neighbours spread over the batch.
+    constexpr size_t samples = 1024;
+    size_t same_cell = 0;
+    for (size_t k = 0; k < samples; ++k) {
+        const size_t i = k * (n - 1) / samples;
+        same_cell += morton_of(rays[i].org) == morton_of(rays[i + 1].org);
+    }
+    if (same_cell * 2 >= samples) return {};
     // The order in [0, n) and the keys in [n, 2n) of one array: from 512k rays on it takes huge
     // pages, where fresh 4 KiB pages faulted for longer than the sort took.
     large_vector<uint32_t> order(2 * n);
@@ -68,12 +82,9 @@ large_vector<uint32_t> coherent_order(std::span<const Ray> rays) {
         tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
             for (size_t i = r.begin(); i != r.end(); ++i) {
                 const Ray& ray = rays[i];
-                const Vec3f at = (ray.org - lo) * scale;
-                const uint32_t morton = spread3.of[cell(at.x)] << 2 | spread3.of[cell(at.y)] << 1 |
-                                        spread3.of[cell(at.z)];
                 const uint32_t octant = uint32_t(ray.dir.x < 0.f) | uint32_t(ray.dir.y < 0.f) << 1 |
                                         uint32_t(ray.dir.z < 0.f) << 2;
-                keys[i] = octant * cells + morton;
+                keys[i] = octant * cells + morton_of(ray.org);
             }
         });
     // A counting sort: the buckets' first positions, then each ray to its bucket's next.
