@@ -6,7 +6,7 @@ the library (last_stats['seconds']: the C++ batch call alone) and the module's o
 checks, conversion, result arrays), and the kind's speed over `embree1`'s (Embree's rtcIntersect1 /
 rtcOccluded1 per ray, as trimesh, Open3D and embreex call it) where the build has Embree.
 
-    /usr/bin/python3 python/bench/bench_intersect.py [scene] [--threads N] [--kinds rtt,bvh,embree1]
+    /usr/bin/python3 python/bench/bench_intersect.py [scene] [--threads N] [--kinds rtt,bvh,bvh-high,embree1]
 """
 import argparse
 import time
@@ -33,7 +33,7 @@ def main():
     parser.add_argument("scene", nargs="?", default="room", help="a built-in scene or a scene file")
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--reps", type=int, default=3)
-    parser.add_argument("--kinds", default="rtt,bvh,embree1", help="comma-separated tracer kinds")
+    parser.add_argument("--kinds", default="rtt,bvh,bvh-high,embree1", help="comma-separated tracer kinds")
     args = parser.parse_args()
 
     scene = rtt.load(args.scene)

@@ -194,8 +194,10 @@ ExperimentResult run_rays(const BenchConfig& config, SceneCache& scenes) {
     }
     t.notes.push_back(
         "Through intersect_rays / visible_rays (the C++ ray-array entry points, as Python's "
-        "intersect and occluded): chunks of 1,024 consecutive rays, no tile shape, so rtt and "
-        "packet16 trace them as 16-wide packets. Exact kinds: 0 differences from ray (checked).");
+        "intersect and visible): chunks of 1,024 rays without a tile shape, the random rays "
+        "grouped by octant and origin first (not for Embree's kinds, which take them as given); "
+        "packet and packet16 trace chunks as 16-wide packets, bvh, bvh-high and rtt one ray at "
+        "a time through a BVH. Exact kinds: 0 differences from ray (checked).");
     print_table(config.log, t);
     r.tables.push_back(t);
     r.extra["rays"] = cells;
