@@ -64,14 +64,14 @@ void for_each_chunk(const Tracer& tracer, std::span<const Ray> rays, TraceStats*
     const size_t chunks = (rays.size() + chunk_rays - 1) / chunk_rays;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks),
                       [&](const tbb::blocked_range<size_t>& r) {
-                          uint32_t positions[chunk_rays];
+                          size_t positions[chunk_rays];
                           Ray gathered[chunk_rays];
                           for (size_t c = r.begin(); c != r.end(); ++c) {
                               const size_t first = c * chunk_rays;
                               const size_t n = std::min(chunk_rays, rays.size() - first);
                               std::span<const Ray> chunk = rays.subspan(first, n);
                               if (order.empty()) {
-                                  for (size_t k = 0; k < n; ++k) positions[k] = uint32_t(first + k);
+                                  for (size_t k = 0; k < n; ++k) positions[k] = first + k;
                               } else {
                                   for (size_t k = 0; k < n; ++k) {
                                       positions[k] = order[first + k];
@@ -79,7 +79,7 @@ void for_each_chunk(const Tracer& tracer, std::span<const Ray> rays, TraceStats*
                                   }
                                   chunk = std::span<const Ray>(gathered, n);
                               }
-                              trace(chunk, std::span<const uint32_t>(positions, n),
+                              trace(chunk, std::span<const size_t>(positions, n),
                                     stats ? &partial.local() : nullptr);
                           }
                       });
@@ -107,7 +107,7 @@ void intersect_rays(const Tracer& tracer, std::span<const Ray> rays, std::span<H
                     TraceStats* stats) {
     check_rays(rays, hits.size(), "hits");
     for_each_chunk(tracer, rays, stats,
-                   [&](std::span<const Ray> chunk, std::span<const uint32_t> at, TraceStats* st) {
+                   [&](std::span<const Ray> chunk, std::span<const size_t> at, TraceStats* st) {
                        Hit out[chunk_rays];
                        tracer.intersect_arbitrary(chunk, std::span<Hit>(out, chunk.size()), st);
                        for (size_t k = 0; k < chunk.size(); ++k) hits[at[k]] = out[k];
@@ -118,7 +118,7 @@ void visible_rays(const Tracer& tracer, std::span<const Ray> rays, std::span<uin
                   TraceStats* stats) {
     check_rays(rays, visible.size(), "visible");
     for_each_chunk(tracer, rays, stats,
-                   [&](std::span<const Ray> chunk, std::span<const uint32_t> at, TraceStats* st) {
+                   [&](std::span<const Ray> chunk, std::span<const size_t> at, TraceStats* st) {
                        uint8_t out[chunk_rays];
                        tracer.visible_arbitrary(chunk, std::span<uint8_t>(out, chunk.size()), st);
                        for (size_t k = 0; k < chunk.size(); ++k) visible[at[k]] = out[k];

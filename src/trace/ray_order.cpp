@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <bit>
 #include <cfloat>
+#include <cstdint>
 
 namespace rtt {
 namespace {
@@ -42,7 +43,8 @@ Bbox3f origin_bounds(std::span<const Ray> rays) {
 
 large_vector<uint32_t> coherent_order(std::span<const Ray> rays) {
     const size_t n = rays.size();
-    if (n < reorder_min_rays) return {};
+    // Positions are 32-bit: a larger batch (128 GB of rays) is traced as it comes.
+    if (n < reorder_min_rays || n > UINT32_MAX) return {};
     // Cells per axis: 2^bits, with 8 octants about n / 4 buckets (measured: 5 to 8 bits per
     // axis for 1M rays trace alike, 3 slower; docs/benchmarks.md).
     const int bits = std::clamp(int(std::bit_width(n / 32)) / 3, 1, max_cell_bits);

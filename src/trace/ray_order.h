@@ -19,8 +19,8 @@ inline constexpr size_t reorder_min_rays = 16384;
 /// Positions of `rays` in tracing order: by direction octant, then by the origin's cell along
 /// a Morton curve over the origins' bounds (about four rays per cell and octant); rays of one
 /// cell and octant keep the caller's order. Empty (trace them as they come) when
-/// rays.size() < reorder_min_rays or when most neighbours in the array already start in one
-/// cell. The rays' origins must be finite.
+/// rays.size() < reorder_min_rays (or beyond 32-bit positions) or when most neighbours in the array
+/// already start in one cell. The rays' origins must be finite.
 large_vector<uint32_t> coherent_order(std::span<const Ray> rays);
 
 }  // namespace rtt
