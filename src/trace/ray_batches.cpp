@@ -52,37 +52,34 @@ void check_rays(std::span<const Ray> rays, size_t outputs, const char* output) {
         throw Error("ray " + std::to_string(i) + what);
 }
 
-/// Calls trace(chunk, positions, stats) for every chunk of `rays` in parallel, where chunk[k]
-/// is rays[positions[k]]: consecutive rays, or gathered in the tracer's order (ray_order.h)
-/// where it takes one. Sums the statistics.
-template <typename Trace>
-void for_each_chunk(const Tracer& tracer, std::span<const Ray> rays, TraceStats* stats,
-                    const Trace& trace) {
+/// Fills out[i] for every rays[i] by answer(chunk, answers, stats) on chunks in parallel, and
+/// sums the statistics. A chunk is consecutive rays, answered in place, or rays gathered in the
+/// tracer's order (ray_order.h), answered into a buffer and scattered back.
+template <typename T, typename Answer>
+void answer_in_chunks(const Tracer& tracer, std::span<const Ray> rays, std::span<T> out,
+                      TraceStats* stats, const Answer& answer) {
     const large_vector<uint32_t> order =
         tracer.reorders_batches() ? coherent_order(rays) : large_vector<uint32_t>{};
     tbb::combinable<TraceStats> partial;
     const size_t chunks = (rays.size() + chunk_rays - 1) / chunk_rays;
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks),
-                      [&](const tbb::blocked_range<size_t>& r) {
-                          size_t positions[chunk_rays];
-                          Ray gathered[chunk_rays];
-                          for (size_t c = r.begin(); c != r.end(); ++c) {
-                              const size_t first = c * chunk_rays;
-                              const size_t n = std::min(chunk_rays, rays.size() - first);
-                              std::span<const Ray> chunk = rays.subspan(first, n);
-                              if (order.empty()) {
-                                  for (size_t k = 0; k < n; ++k) positions[k] = first + k;
-                              } else {
-                                  for (size_t k = 0; k < n; ++k) {
-                                      positions[k] = order[first + k];
-                                      gathered[k] = rays[positions[k]];
-                                  }
-                                  chunk = std::span<const Ray>(gathered, n);
-                              }
-                              trace(chunk, std::span<const size_t>(positions, n),
-                                    stats ? &partial.local() : nullptr);
-                          }
-                      });
+    tbb::parallel_for(
+        tbb::blocked_range<size_t>(0, chunks), [&](const tbb::blocked_range<size_t>& r) {
+            Ray gathered[chunk_rays];
+            T answers[chunk_rays];
+            for (size_t c = r.begin(); c != r.end(); ++c) {
+                const size_t first = c * chunk_rays;
+                const size_t n = std::min(chunk_rays, rays.size() - first);
+                TraceStats* st = stats ? &partial.local() : nullptr;
+                if (order.empty()) {
+                    answer(rays.subspan(first, n), out.subspan(first, n), st);
+                    continue;
+                }
+                const uint32_t* at = order.data() + first;
+                for (size_t k = 0; k < n; ++k) gathered[k] = rays[at[k]];
+                answer(std::span<const Ray>(gathered, n), std::span<T>(answers, n), st);
+                for (size_t k = 0; k < n; ++k) out[at[k]] = answers[k];
+            }
+        });
     if (stats) partial.combine_each([&](const TraceStats& s) { *stats += s; });
 }
 
@@ -106,23 +103,19 @@ void Tracer::visible_arbitrary(std::span<const Ray> rays, std::span<uint8_t> vis
 void intersect_rays(const Tracer& tracer, std::span<const Ray> rays, std::span<Hit> hits,
                     TraceStats* stats) {
     check_rays(rays, hits.size(), "hits");
-    for_each_chunk(tracer, rays, stats,
-                   [&](std::span<const Ray> chunk, std::span<const size_t> at, TraceStats* st) {
-                       Hit out[chunk_rays];
-                       tracer.intersect_arbitrary(chunk, std::span<Hit>(out, chunk.size()), st);
-                       for (size_t k = 0; k < chunk.size(); ++k) hits[at[k]] = out[k];
-                   });
+    answer_in_chunks(tracer, rays, hits, stats,
+                     [&](std::span<const Ray> chunk, std::span<Hit> out, TraceStats* st) {
+                         tracer.intersect_arbitrary(chunk, out, st);
+                     });
 }
 
 void visible_rays(const Tracer& tracer, std::span<const Ray> rays, std::span<uint8_t> visible,
                   TraceStats* stats) {
     check_rays(rays, visible.size(), "visible");
-    for_each_chunk(tracer, rays, stats,
-                   [&](std::span<const Ray> chunk, std::span<const size_t> at, TraceStats* st) {
-                       uint8_t out[chunk_rays];
-                       tracer.visible_arbitrary(chunk, std::span<uint8_t>(out, chunk.size()), st);
-                       for (size_t k = 0; k < chunk.size(); ++k) visible[at[k]] = out[k];
-                   });
+    answer_in_chunks(tracer, rays, visible, stats,
+                     [&](std::span<const Ray> chunk, std::span<uint8_t> out, TraceStats* st) {
+                         tracer.visible_arbitrary(chunk, out, st);
+                     });
 }
 
 }  // namespace rtt
