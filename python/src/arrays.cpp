@@ -1,6 +1,9 @@
 #include "arrays.h"
 
 #include <pybind11/stl.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
 
 #include <cmath>
 #include <cstdint>
@@ -22,8 +25,16 @@ py::array as_array(const py::handle& h, const char* what) {
     }
 }
 
-/// An (n, 3) array (or (3,) when `single` is allowed) of float32/float64, as float32 rows.
-std::vector<Vec3f> rows3(const py::handle& h, const char* what, bool single_ok, bool& single) {
+/// An (n, 3) array (or (3,) when `single` is allowed) of float32/float64 read as float32 rows
+/// (float64 converted once by numpy), values not yet checked.
+struct Rows3 {
+    py::array_t<float> array;  ///< Keeps the rows alive.
+    const float* p = nullptr;
+    size_t n = 0;
+    Vec3f operator[](size_t i) const { return {p[3 * i], p[3 * i + 1], p[3 * i + 2]}; }
+};
+
+Rows3 view_rows3(const py::handle& h, const char* what, bool single_ok, bool& single) {
     py::array a = as_array(h, what);
     if (!a) throw py::value_error(std::string(what) + ": not an array");
     const char kind = a.dtype().kind();
@@ -33,39 +44,64 @@ std::vector<Vec3f> rows3(const py::handle& h, const char* what, bool single_ok, 
     single = single_ok && a.ndim() == 1 && a.shape(0) == 3;
     if (!single && (a.ndim() != 2 || a.shape(1) != 3))
         throw py::value_error(std::string(what) + ": expected shape (N, 3), got " + shape_of(a));
-    const auto f = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a);
-    const float* p = f.data();
-    const size_t n = single ? 1 : size_t(a.shape(0));
-    std::vector<Vec3f> out(n);
-    for (size_t i = 0; i < n; ++i) {
-        out[i] = {p[3 * i], p[3 * i + 1], p[3 * i + 2]};
-        if (!is_finite(out[i]))
-            throw py::value_error(std::string(what) + ": row " + std::to_string(i) +
-                                  " has a NaN or infinite value (or one beyond float32 range)");
-    }
-    return out;
+    Rows3 rows;
+    rows.array = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a);
+    rows.p = rows.array.data();
+    rows.n = single ? 1 : size_t(a.shape(0));
+    return rows;
 }
 
-/// A number, or an (n,) float array, as n floats.
-std::vector<float> per_ray(const py::handle& h, size_t n, const char* what) {
-    if (py::isinstance<py::float_>(h) || py::isinstance<py::int_>(h))
-        return std::vector<float>(n, h.cast<float>());
+std::string non_finite_row(const char* what, size_t i) {
+    return std::string(what) + ": row " + std::to_string(i) +
+           " has a NaN or infinite value (or one beyond float32 range)";
+}
+
+/// A number, or an (n,) float array, as n floats: value when `p` is null, else p[i].
+struct PerRay {
+    py::array_t<float> array;  ///< Keeps the values alive.
+    const float* p = nullptr;
+    float value = 0.f;
+    float operator[](size_t i) const { return p ? p[i] : value; }
+};
+
+PerRay view_per_ray(const py::handle& h, size_t n, const char* what) {
+    PerRay v;
+    if (py::isinstance<py::float_>(h) || py::isinstance<py::int_>(h)) {
+        v.value = h.cast<float>();
+        return v;
+    }
     py::array a = as_array(h, what);
-    if (a.ndim() == 0) return std::vector<float>(n, a.cast<float>());
+    if (a.ndim() == 0) {
+        v.value = a.cast<float>();
+        return v;
+    }
     if (a.dtype().kind() != 'f' && a.dtype().kind() != 'i' && a.dtype().kind() != 'u')
         throw py::value_error(std::string(what) + ": expected a number or a float array");
     if (a.ndim() != 1 || size_t(a.shape(0)) != n)
         throw py::value_error(std::string(what) + ": expected a number or shape (" +
                               std::to_string(n) + ",), got " + shape_of(a));
-    const auto f = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a);
-    return std::vector<float>(f.data(), f.data() + n);
+    v.array = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a);
+    v.p = v.array.data();
+    return v;
 }
 
 }  // namespace
 
 std::vector<Vec3f> to_points(const py::handle& array, const char* what) {
     bool single = false;
-    return rows3(array, what, false, single);
+    const Rows3 rows = view_rows3(array, what, false, single);
+    std::vector<Vec3f> out(rows.n);
+    for (size_t i = 0; i < rows.n; ++i) {
+        out[i] = rows[i];
+        if (!is_finite(out[i])) throw py::value_error(non_finite_row(what, i));
+    }
+    return out;
+}
+
+void in_arena(int threads, const std::function<void()>& f) {
+    if (threads < 0) throw py::value_error("threads must be at least 0 (0 = all cores)");
+    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    arena.execute(f);
 }
 
 std::vector<TriangleIndices> to_triangles(const py::handle& h, size_t vertex_count) {
@@ -100,24 +136,50 @@ std::vector<TriangleIndices> to_triangles(const py::handle& h, size_t vertex_cou
     return out;
 }
 
-std::vector<Ray> to_rays(const py::handle& origins, const py::handle& directions,
-                         const py::handle& tmin, const py::handle& tmax) {
+Unfilled<Ray> to_rays(const py::handle& origins, const py::handle& directions,
+                      const py::handle& tmin, const py::handle& tmax, int threads) {
     bool one_origin = false, unused = false;
-    const std::vector<Vec3f> org = rows3(origins, "origins", true, one_origin);
-    const std::vector<Vec3f> dir = rows3(directions, "directions", false, unused);
-    if (!one_origin && org.size() != dir.size())
-        throw py::value_error("origins and directions differ in length (" +
-                              std::to_string(org.size()) + " and " + std::to_string(dir.size()) +
-                              ")");
-    const std::vector<float> t0 = per_ray(tmin, dir.size(), "tmin");
-    const std::vector<float> t1 = per_ray(tmax, dir.size(), "tmax");
-    std::vector<Ray> rays(dir.size());
-    for (size_t i = 0; i < rays.size(); ++i) {
+    const Rows3 org = view_rows3(origins, "origins", true, one_origin);
+    const Rows3 dir = view_rows3(directions, "directions", false, unused);
+    if (!one_origin && org.n != dir.n)
+        throw py::value_error("origins and directions differ in length (" + std::to_string(org.n) +
+                              " and " + std::to_string(dir.n) + ")");
+    const size_t n = dir.n;
+    const PerRay t0 = view_per_ray(tmin, n, "tmin"), t1 = view_per_ray(tmax, n, "tmax");
+    const auto ray = [&](size_t i) { return Ray{org[one_origin ? 0 : i], dir[i], t0[i], t1[i]}; };
+    const auto good = [](const Ray& r) {
+        return is_finite(r.org) && is_finite(r.dir) && r.dir != Vec3f{0.f} && !std::isnan(r.tmin) &&
+               !std::isnan(r.tmax) && r.tmin <= r.tmax;
+    };
+    Unfilled<Ray> rays(n);
+    bool all_good = true;
+    {
+        py::gil_scoped_release unlocked;  // the arrays stay referenced by org, dir, t0, t1
+        in_arena(threads, [&] {
+            all_good = tbb::parallel_reduce(
+                tbb::blocked_range<size_t>(0, n, 4096), true,
+                [&](const tbb::blocked_range<size_t>& r, bool ok) {
+                    for (size_t i = r.begin(); i != r.end(); ++i) {
+                        rays.span()[i] = ray(i);
+                        ok &= good(rays.span()[i]);
+                    }
+                    return ok;
+                },
+                std::logical_and<>());
+        });
+    }
+    if (all_good) return rays;
+    // The first fault in the order the checks have always run: every origin, every direction,
+    // then each ray's direction and interval.
+    for (size_t i = 0; i < org.n; ++i)
+        if (!is_finite(org[i])) throw py::value_error(non_finite_row("origins", i));
+    for (size_t i = 0; i < n; ++i)
+        if (!is_finite(dir[i])) throw py::value_error(non_finite_row("directions", i));
+    for (size_t i = 0; i < n; ++i) {
         if (dir[i] == Vec3f{0.f})
             throw py::value_error("directions: row " + std::to_string(i) + " is zero");
-        if (std::isnan(t0[i]) || std::isnan(t1[i]) || !(t0[i] <= t1[i]))
+        if (!good(ray(i)))
             throw py::value_error("ray " + std::to_string(i) + ": tmin > tmax or a NaN bound");
-        rays[i] = Ray{one_origin ? org[0] : org[i], dir[i], t0[i], t1[i]};
     }
     return rays;
 }

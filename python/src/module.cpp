@@ -4,6 +4,8 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <filesystem>
 #include <memory>
@@ -72,15 +74,24 @@ py::dict stats_dict(const CallStats& s) {
                     "fallback_seconds"_a = r.fallback_seconds());
 }
 
-/// (t, tri) arrays of the given shape from hits: t = inf and tri = -1 on a miss.
-py::tuple hit_arrays(const std::vector<Hit>& hits, std::vector<py::ssize_t> shape) {
+/// (t, tri) arrays of the given shape from hits, filled on `threads` threads: t = inf and
+/// tri = -1 on a miss.
+py::tuple hit_arrays(std::span<const Hit> hits, std::vector<py::ssize_t> shape, int threads) {
     py::array_t<float> t(shape);
     py::array_t<int64_t> tri(shape);
     float* pt = t.mutable_data();
     int64_t* pi = tri.mutable_data();
-    for (size_t i = 0; i < hits.size(); ++i) {
-        pt[i] = hits[i].valid() ? hits[i].t : pos_inf;
-        pi[i] = hits[i].valid() ? int64_t(hits[i].tri) : -1;
+    {
+        py::gil_scoped_release unlocked;
+        in_arena(threads, [&] {
+            tbb::parallel_for(tbb::blocked_range<size_t>(0, hits.size(), 16384),
+                              [&](const tbb::blocked_range<size_t>& r) {
+                                  for (size_t i = r.begin(); i != r.end(); ++i) {
+                                      pt[i] = hits[i].valid() ? hits[i].t : pos_inf;
+                                      pi[i] = hits[i].valid() ? int64_t(hits[i].tri) : -1;
+                                  }
+                              });
+        });
     }
     return py::make_tuple(t, tri);
 }
@@ -97,13 +108,14 @@ std::shared_ptr<BoundTracer> tracer_of(const std::shared_ptr<BoundScene>& scene,
 /// One answer per ray of the arrays, computed by answer(rays, out) without the GIL (other
 /// Python threads run meanwhile).
 template <typename T, typename Answer>
-std::vector<T> answer_rays(const py::handle& origins, const py::handle& directions,
-                           const py::handle& tmin, const py::handle& tmax, const Answer& answer) {
-    const std::vector<Ray> rays = to_rays(origins, directions, tmin, tmax);
-    std::vector<T> out(rays.size());
+Unfilled<T> answer_rays(const py::handle& origins, const py::handle& directions,
+                        const py::handle& tmin, const py::handle& tmax, int threads,
+                        const Answer& answer) {
+    const Unfilled<Ray> rays = to_rays(origins, directions, tmin, tmax, threads);
+    Unfilled<T> out(rays.size());
     py::gil_scoped_release unlocked;
     values_checked([&] {
-        answer(rays, out);
+        answer(rays.span(), out.span());
         return 0;
     });
     return out;
@@ -224,12 +236,12 @@ PYBIND11_MODULE(_rtt, m) {
             "intersect",
             [](BoundTracer& t, const py::handle& origins, const py::handle& directions,
                const py::handle& tmin, const py::handle& tmax, int threads) {
-                const std::vector<Hit> hits =
-                    answer_rays<Hit>(origins, directions, tmin, tmax,
-                                     [&](const std::vector<Ray>& rays, std::vector<Hit>& out) {
+                const Unfilled<Hit> hits =
+                    answer_rays<Hit>(origins, directions, tmin, tmax, threads,
+                                     [&](std::span<const Ray> rays, std::span<Hit> out) {
                                          t.intersect(rays, out, threads);
                                      });
-                return hit_arrays(hits, {py::ssize_t(hits.size())});
+                return hit_arrays(hits.span(), {py::ssize_t(hits.size())}, threads);
             },
             "origins"_a, "directions"_a, "tmin"_a = 0.0, "tmax"_a = INFINITY, "threads"_a = 0,
             "Closest hits of arbitrary rays: (t float32, inf on a miss; tri int64, -1 on a miss).")
@@ -237,13 +249,19 @@ PYBIND11_MODULE(_rtt, m) {
             "visible",
             [](BoundTracer& t, const py::handle& origins, const py::handle& directions,
                const py::handle& tmin, const py::handle& tmax, int threads) {
-                const std::vector<uint8_t> vis = answer_rays<uint8_t>(
-                    origins, directions, tmin, tmax,
-                    [&](const std::vector<Ray>& rays, std::vector<uint8_t>& out) {
-                        t.visible(rays, out, threads);
+                const Unfilled<Ray> rays = to_rays(origins, directions, tmin, tmax, threads);
+                py::array_t<bool> out(py::ssize_t(rays.size()));
+                // numpy's bool is one byte holding 0 or 1, as visible_rays writes: no copy.
+                static_assert(sizeof(bool) == sizeof(uint8_t));
+                const std::span<uint8_t> vis(reinterpret_cast<uint8_t*>(out.mutable_data()),
+                                             rays.size());
+                {
+                    py::gil_scoped_release unlocked;
+                    values_checked([&] {
+                        t.visible(rays.span(), vis, threads);
+                        return 0;
                     });
-                py::array_t<bool> out(py::ssize_t(vis.size()));
-                for (size_t i = 0; i < vis.size(); ++i) out.mutable_data()[i] = vis[i] != 0;
+                }
                 return out;
             },
             "origins"_a, "directions"_a, "tmin"_a = 0.0, "tmax"_a = INFINITY, "threads"_a = 0,
@@ -273,7 +291,7 @@ PYBIND11_MODULE(_rtt, m) {
                 }
                 const std::vector<py::ssize_t> shape = {py::ssize_t(height) * aa,
                                                         py::ssize_t(width) * aa};
-                py::tuple result = hit_arrays(hits, shape);
+                py::tuple result = hit_arrays(hits, shape, threads);
                 if (!with_answers) return result;
                 py::array_t<uint8_t> how(shape);
                 for (size_t i = 0; i < answers.size(); ++i)

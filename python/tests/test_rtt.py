@@ -200,6 +200,32 @@ def test_bad_rays_raise_value_error(scene, origins, directions, kwargs, message)
         scene.tracer("ray").intersect(origins, directions, **kwargs)
 
 
+def test_large_batches_name_their_first_bad_row(scene):
+    # Rays are made on several threads; the message still names the first faulty row.
+    o, d = random_rays(100_000)
+    d[90_000] = 0.0
+    d[70_001, 1] = np.inf
+    o[80_000, 2] = np.nan
+    tracer = scene.tracer("bvh")
+    with pytest.raises(ValueError, match="origins: row 80000 has a NaN"):
+        tracer.intersect(o, d, threads=2)
+    o[80_000, 2] = 0.0
+    with pytest.raises(ValueError, match="directions: row 70001 has a NaN"):
+        tracer.visible(o, d, threads=2)
+    d[70_001, 1] = 1.0
+    with pytest.raises(ValueError, match="directions: row 90000 is zero"):
+        tracer.intersect(o, d)
+    d[90_000, 0] = 1.0
+    tmax = np.full(100_000, np.inf)
+    tmax[55_555] = -1.0
+    with pytest.raises(ValueError, match="ray 55555: tmin > tmax"):
+        tracer.visible(o, d, tmax=tmax)
+    with pytest.raises(ValueError, match="threads must be at least 0"):
+        tracer.intersect(o, d, threads=-1)
+    # Made on one thread or two, the same rays.
+    np.testing.assert_array_equal(tracer.intersect(o, d, threads=1)[1], tracer.intersect(o, d, threads=2)[1])
+
+
 def sample_grid(buffer):
     """(H, W, K, K) as rtt.read_hits gives it -> the (H*K, W*K) sample grid of camera_hits."""
     h, w, k, _ = buffer.shape
