@@ -4,8 +4,8 @@
 #pragma once
 
 #include <charconv>
+#include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -21,9 +21,20 @@ using Tokens = std::vector<std::string_view>;
 inline std::string read_text_file(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(path, 0, "cannot open");
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
+    // One read into a string of the file's size: a string stream grew by doubling and copied
+    // twice, a third of loading a 34 MB OBJ (docs/benchmarks.md, "First image"). What a size
+    // does not cover (no size: a pipe; a file still growing) is appended in blocks.
+    std::string text;
+    std::error_code ec;
+    if (const auto size = std::filesystem::file_size(path, ec); !ec) {
+        text.resize(size_t(size));
+        in.read(text.data(), std::streamsize(size));
+        text.resize(size_t(in.gcount()));
+    }
+    char block[1 << 16];
+    while (in.read(block, sizeof block) || in.gcount() > 0) text.append(block, size_t(in.gcount()));
+    if (in.bad()) throw Error(path, 0, "cannot read");
+    return text;
 }
 
 /// Splits at spaces, tabs, carriage returns and newlines into `out` (cleared first).
