@@ -3,16 +3,22 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
+#include <optional>
 #include <random>
 
 #include "rtt/error.h"
 #include "rtt/io.h"
 #include "rtt/scene_io.h"
+#include "scene/assimp_sandbox.h"
+#include "scene/importers.h"
 
 namespace rtt {
 namespace {
@@ -215,6 +221,118 @@ TEST(Import, PlyBinaryKeepsFaceOrderAndFans) {
     const Scene s = load_mesh_file(
         temp_file("polygons_binary.ply", binary_ply(fixture_vertices, fixture_faces)));
     EXPECT_EQ(count_mismatches(s, polygon_fixture_triangles()), 0);
+}
+
+/// A binary PLY of the given header lines (after "format"), each vertex record and each face
+/// record written by the callbacks in the file's byte order.
+class PlyWriter {
+public:
+    explicit PlyWriter(bool big_endian) : big_(big_endian) {
+        text_ = std::string("ply\nformat binary_") + (big_ ? "big" : "little") + "_endian 1.0\n";
+    }
+    PlyWriter& line(const std::string& l) {
+        text_ += l + "\n";
+        return *this;
+    }
+    template <typename T>
+    PlyWriter& put(T v) {
+        char b[sizeof v];
+        std::memcpy(b, &v, sizeof v);
+        if (big_) std::reverse(b, b + sizeof v);
+        text_.append(b, sizeof v);
+        return *this;
+    }
+    std::string bytes() const { return text_; }
+
+private:
+    bool big_;
+    std::string text_;
+};
+
+/// Every field of the two scenes, floats bit for bit (NaN-free inputs).
+void expect_same_scene(const Scene& a, const Scene& b) {
+    EXPECT_EQ(a.name, b.name);
+    EXPECT_EQ(a.vertices, b.vertices);
+    EXPECT_EQ(a.triangles, b.triangles);
+    EXPECT_EQ(a.triangle_material, b.triangle_material);
+    EXPECT_EQ(a.normals, b.normals);
+    ASSERT_EQ(a.materials.size(), b.materials.size());
+    for (size_t i = 0; i < a.materials.size(); ++i) {
+        EXPECT_EQ(a.materials[i].name, b.materials[i].name);
+        EXPECT_EQ(a.materials[i].diffuse, b.materials[i].diffuse);
+        EXPECT_EQ(a.materials[i].specular, b.materials[i].specular);
+    }
+    EXPECT_EQ(a.warnings, b.warnings);
+    EXPECT_EQ(a.lights.size(), b.lights.size());
+    EXPECT_EQ(a.camera.has_value(), b.camera.has_value());
+}
+
+TEST(Import, PlyBinaryReadsAsAssimpDoes) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> coord(-100.0, 100.0);
+    for (const bool big : {false, true}) {
+        // Doubles rounded to float, normals among other properties (one not finite), 16-bit
+        // counts, unsigned indices, polygons of 3 to 6 corners, an unreferenced vertex.
+        PlyWriter w(big);
+        const int nv = 40, nf = 30;
+        w.line("comment made by a test").line("element vertex " + std::to_string(nv));
+        w.line("property double x").line("property float confidence").line("property double y");
+        w.line("property double z").line("property float nx").line("property float ny");
+        w.line("property float nz").line("property uchar intensity");
+        w.line("element face " + std::to_string(nf)).line("property list ushort uint vertex_index");
+        w.line("end_header");
+        for (int v = 0; v < nv; ++v) {
+            w.put(coord(rng)).put(0.5f).put(coord(rng)).put(coord(rng));
+            w.put(v == 3 ? std::numeric_limits<float>::quiet_NaN() : float(coord(rng)));
+            w.put(float(coord(rng))).put(float(coord(rng))).put(uint8_t(v));
+        }
+        for (int f = 0; f < nf; ++f) {
+            const uint16_t n = uint16_t(3 + f % 4);
+            w.put(n);
+            for (uint16_t k = 0; k < n; ++k) w.put(uint32_t((f * 7 + k * 3) % (nv - 1)));
+        }
+        const std::string path = temp_file(big ? "native_be.ply" : "native_le.ply", w.bytes());
+        const std::optional<Scene> native = detail::import_ply_binary(path);
+        ASSERT_TRUE(native.has_value());
+        expect_same_scene(*native, detail::import_assimp_isolated(path));
+        EXPECT_EQ(native->triangle_count(), size_t(nf / 4 * (1 + 2 + 3 + 4) + 1 + 2));
+    }
+    // The test fixture as exporters write it: float coordinates, uchar counts, int indices.
+    const std::string plain =
+        temp_file("native_plain.ply", binary_ply(fixture_vertices, fixture_faces));
+    const std::optional<Scene> native = detail::import_ply_binary(plain);
+    ASSERT_TRUE(native.has_value());
+    expect_same_scene(*native, detail::import_assimp_isolated(plain));
+}
+
+TEST(Import, PlyBinaryLeavesOtherFilesToAssimp) {
+    const std::string plain = binary_ply(fixture_vertices, fixture_faces);
+    const size_t body = plain.find("end_header\n") + 11;
+    const auto with_header = [&](const std::string& from, const std::string& to) {
+        std::string s = plain;
+        s.replace(s.find(from), from.size(), to);
+        return s;
+    };
+    const std::vector<std::pair<std::string, std::string>> others = {
+        {"ascii",
+         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float "
+         "y\nproperty float z\nelement face 1\nproperty list uchar int "
+         "vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+        {"colour", with_header("property float z\n", "property float z\nproperty uchar red\n")},
+        {"cut", plain.substr(0, plain.size() - 1)},
+        {"longer", plain + "x"},
+        {"cut_header", plain.substr(0, body - 3)},
+        {"edge", with_header("end_header", "element edge 0\nproperty int vertex1\nend_header")},
+        {"face_flags", with_header("vertex_indices\n", "vertex_indices\nproperty uchar flags\n")},
+        {"out_of_range", binary_ply(fixture_vertices, {{0, 1, 7}})},
+        {"negative", binary_ply(fixture_vertices, {{0, 1, -5}})},
+        {"line", binary_ply(fixture_vertices, {{0, 1}})},
+        {"huge_count", with_header("element face 3", "element face 3000000000")},
+        {"unknown_line", with_header("element vertex", "Created by a tool\nelement vertex")},
+    };
+    for (const auto& [name, bytes] : others)
+        EXPECT_FALSE(detail::import_ply_binary(temp_file(name + ".ply", bytes)).has_value())
+            << name;
 }
 
 TEST(Import, OffKeepsFaceOrderAndFans) {

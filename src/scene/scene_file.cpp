@@ -5,6 +5,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <vector>
 
 #include "rtt/error.h"
@@ -86,8 +87,10 @@ void drop_non_finite_triangles(Scene& scene, const std::string& path) {
 Scene load_mesh_file(const std::string& path) {
     detail::require_readable_file(path);
     const std::string ext = detail::lower_extension(path);
+    std::optional<Scene> ply = ext == "ply" ? detail::import_ply_binary(path) : std::nullopt;
     Scene scene = ext == "obj"   ? detail::import_obj(path)
                   : ext == "off" ? detail::import_off(path)
+                  : ply          ? std::move(*ply)
                                  : detail::import_assimp_isolated(path);
     drop_non_finite_triangles(scene, path);
     validate(scene);
