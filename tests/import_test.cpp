@@ -223,6 +223,14 @@ TEST(Import, PlyBinaryKeepsFaceOrderAndFans) {
     EXPECT_EQ(count_mismatches(s, polygon_fixture_triangles()), 0);
 }
 
+/// An ASCII PLY of three float vertices and one face list of uchar counts, with this body.
+std::string ascii_triangle(const std::string& body) {
+    return "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float "
+           "y\nproperty float z\nelement face 1\nproperty list uchar int "
+           "vertex_indices\nend_header\n" +
+           body;
+}
+
 /// A binary PLY of the given header lines (after "format"), each vertex record and each face
 /// record written by the callbacks in the file's byte order.
 class PlyWriter {
@@ -267,7 +275,7 @@ void expect_same_scene(const Scene& a, const Scene& b) {
     EXPECT_EQ(a.camera.has_value(), b.camera.has_value());
 }
 
-TEST(Import, PlyBinaryReadsAsAssimpDoes) {
+TEST(Import, PlyReadsAsAssimpDoes) {
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> coord(-100.0, 100.0);
     for (const bool big : {false, true}) {
@@ -292,7 +300,7 @@ TEST(Import, PlyBinaryReadsAsAssimpDoes) {
             for (uint16_t k = 0; k < n; ++k) w.put(uint32_t((f * 7 + k * 3) % (nv - 1)));
         }
         const std::string path = temp_file(big ? "native_be.ply" : "native_le.ply", w.bytes());
-        const std::optional<Scene> native = detail::import_ply_binary(path);
+        const std::optional<Scene> native = detail::import_ply_native(path);
         ASSERT_TRUE(native.has_value());
         expect_same_scene(*native, detail::import_assimp_isolated(path));
         EXPECT_EQ(native->triangle_count(), size_t(nf / 4 * (1 + 2 + 3 + 4) + 1 + 2));
@@ -300,12 +308,42 @@ TEST(Import, PlyBinaryReadsAsAssimpDoes) {
     // The test fixture as exporters write it: float coordinates, uchar counts, int indices.
     const std::string plain =
         temp_file("native_plain.ply", binary_ply(fixture_vertices, fixture_faces));
-    const std::optional<Scene> native = detail::import_ply_binary(plain);
+    const std::optional<Scene> native = detail::import_ply_native(plain);
     ASSERT_TRUE(native.has_value());
     expect_same_scene(*native, detail::import_assimp_isolated(plain));
+    // ASCII, as the Stanford scans: values assimp's fast_atof also reads exactly (eighths),
+    // integer and double coordinates, normals, CRLF line ends, blank-padded records.
+    std::string ascii =
+        "ply\r\nformat ascii 1.0\r\ncomment zipper output\r\nelement vertex 30\r\nproperty "
+        "float x\r\nproperty double y\r\nproperty int z\r\nproperty float "
+        "confidence\r\nproperty float nx\r\nproperty float ny\r\nproperty float nz\r\nelement "
+        "face 20\r\nproperty list uchar int vertex_indices\r\nend_header\r\n";
+    std::uniform_int_distribution<int> eighths(-800, 800);
+    for (int v = 0; v < 30; ++v)
+        ascii += std::to_string(eighths(rng) / 8.0) + " " + std::to_string(eighths(rng) / 8.0) +
+                 " " + std::to_string(eighths(rng)) + " 0.5 " + std::to_string(eighths(rng) / 8.0) +
+                 " 0.25 -1\r\n";
+    for (int f = 0; f < 20; ++f) {
+        const int n = 3 + f % 3;
+        ascii += std::to_string(n);
+        for (int k = 0; k < n; ++k) ascii.append(" ").append(std::to_string((f * 5 + k * 7) % 30));
+        ascii += "  \r\n";
+    }
+    const std::string text = temp_file("native_ascii.ply", ascii);
+    const std::optional<Scene> from_text = detail::import_ply_native(text);
+    ASSERT_TRUE(from_text.has_value());
+    expect_same_scene(*from_text, detail::import_assimp_isolated(text));
+    // Where assimp's fast_atof is one ulp off, ours rounds correctly: "%.9g" reads back exactly.
+    const float exact = 0.1f + 0x1p-27f;
+    char written[32];
+    std::snprintf(written, sizeof written, "%.9g", double(exact));
+    const std::optional<Scene> round_trip = detail::import_ply_native(temp_file(
+        "round_trip.ply", ascii_triangle(std::string(written) + " 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")));
+    ASSERT_TRUE(round_trip.has_value());
+    EXPECT_EQ(round_trip->vertices[0].x, exact);
 }
 
-TEST(Import, PlyBinaryLeavesOtherFilesToAssimp) {
+TEST(Import, PlyLeavesOtherFilesToAssimp) {
     const std::string plain = binary_ply(fixture_vertices, fixture_faces);
     const size_t body = plain.find("end_header\n") + 11;
     const auto with_header = [&](const std::string& from, const std::string& to) {
@@ -314,10 +352,11 @@ TEST(Import, PlyBinaryLeavesOtherFilesToAssimp) {
         return s;
     };
     const std::vector<std::pair<std::string, std::string>> others = {
-        {"ascii",
-         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float "
-         "y\nproperty float z\nelement face 1\nproperty list uchar int "
-         "vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+        {"ascii_two_per_line", ascii_triangle("0 0 0\n1 0 0 0 1 0\n3 0 1 2\n")},
+        {"ascii_cut", ascii_triangle("0 0 0\n1 0 0\n0 1 0\n3 0 1\n")},
+        {"ascii_word", ascii_triangle("0 0 0\n1 0 zero\n0 1 0\n3 0 1 2\n")},
+        {"ascii_longer", ascii_triangle("0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 2\n")},
+        {"ascii_range", ascii_triangle("0 0 0\n1 0 0\n0 1 0\n300 0 1 2\n")},
         {"colour", with_header("property float z\n", "property float z\nproperty uchar red\n")},
         {"cut", plain.substr(0, plain.size() - 1)},
         {"longer", plain + "x"},
@@ -331,7 +370,7 @@ TEST(Import, PlyBinaryLeavesOtherFilesToAssimp) {
         {"unknown_line", with_header("element vertex", "Created by a tool\nelement vertex")},
     };
     for (const auto& [name, bytes] : others)
-        EXPECT_FALSE(detail::import_ply_binary(temp_file(name + ".ply", bytes)).has_value())
+        EXPECT_FALSE(detail::import_ply_native(temp_file(name + ".ply", bytes)).has_value())
             << name;
 }
 

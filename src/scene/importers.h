@@ -22,9 +22,10 @@ Scene import_obj(const std::string& path);
 /// assimp 5.2's OFF reader clamps out-of-range indices and drops faces after a comment line.
 Scene import_off(const std::string& path);
 
-/// A binary PLY triangle mesh (vertex and face elements only; x, y, z and perhaps normals; no
-/// colours) read without assimp; nullopt for any other PLY, which import_assimp reads.
-std::optional<Scene> import_ply_binary(const std::string& path);
+/// A PLY triangle mesh (vertex and face elements only; x, y, z and perhaps normals; no colours;
+/// binary, or ASCII with one record per line) read without assimp; nullopt for any other PLY,
+/// which import_assimp reads.
+std::optional<Scene> import_ply_native(const std::string& path);
 
 /// What check_ply_structure repaired: a warning per repair, and when there was one the file's
 /// text with the repairs (unknown header lines made comments), for assimp to read instead.

@@ -87,7 +87,7 @@ void drop_non_finite_triangles(Scene& scene, const std::string& path) {
 Scene load_mesh_file(const std::string& path) {
     detail::require_readable_file(path);
     const std::string ext = detail::lower_extension(path);
-    std::optional<Scene> ply = ext == "ply" ? detail::import_ply_binary(path) : std::nullopt;
+    std::optional<Scene> ply = ext == "ply" ? detail::import_ply_native(path) : std::nullopt;
     Scene scene = ext == "obj"   ? detail::import_obj(path)
                   : ext == "off" ? detail::import_off(path)
                   : ply          ? std::move(*ply)
