@@ -40,7 +40,7 @@ std::unordered_map<std::string, Material> read_mtl(const std::string& path, Scen
     std::unordered_set<std::string> kd_given;
     TextParser p{path};
     std::string cur;
-    for_each_line(read_text_file(path), false, [&](const Tokens& tk, int line) {
+    for_each_line(TextFile(path).text(), false, [&](const Tokens& tk, int line) {
         p.line = line;
         const std::string_view key = tk[0];
         if (key == "newmtl") {
@@ -96,7 +96,8 @@ public:
     explicit ObjReader(const std::string& path) : path_(path), p_{path} { scene_.name = path; }
 
     Scene run() {
-        const std::string text = read_text_file(path_);
+        const TextFile file(path_);
+        const std::string_view text = file.text();
         reserve_for(text);
         for_each_line(text, true, [&](const Tokens& tk, int line) {
             p_.line = line;
@@ -236,7 +237,7 @@ private:
         std::vector<TriangleIndices> tris(tri_corners_.size() / 3);
         std::vector<Vec3f> verts, norms;
         if (!has_normals_) {
-            verts = positions_;
+            verts = std::move(positions_);
             for (size_t i = 0; i < tri_corners_.size(); ++i)
                 tris[i / 3][i % 3] = uint32_t(tri_corners_[i].v);
         } else {
@@ -271,7 +272,8 @@ private:
     TextParser p_;
     Scene scene_;
     std::vector<Vec3f> positions_, normals_;
-    std::vector<Corner> corners_, tri_corners_;
+    std::vector<Corner> corners_;
+    large_vector<Corner> tri_corners_;  ///< Three per triangle: tens of MB for a scan.
     std::vector<uint32_t> tri_material_;
     std::vector<int> tri_line_;
     std::vector<int> material_lines_;  ///< The usemtl line of each material's first use.

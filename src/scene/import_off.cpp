@@ -10,7 +10,8 @@
 namespace rtt::detail {
 
 Scene import_off(const std::string& path) {
-    const std::string text = read_text_file(path);
+    const TextFile file(path);
+    const std::string_view text = file.text();
     TextParser p{path};
     Scene scene;
     scene.name = path;

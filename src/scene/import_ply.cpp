@@ -236,7 +236,7 @@ bool is_colour(std::string_view name) {
 }
 
 /// The header of `text` when it declares a mesh this reader takes, else nullopt.
-std::optional<Layout> layout_of(const std::string& text) {
+std::optional<Layout> layout_of(std::string_view text) {
     Layout out;
     std::vector<Element> elements;
     bool format = false;
@@ -244,7 +244,7 @@ std::optional<Layout> layout_of(const std::string& text) {
     for (int line = 1;; ++line) {
         const size_t end = text.find('\n', out.body);
         if (end == std::string::npos) return std::nullopt;
-        split_tokens(std::string_view(text).substr(out.body, end - out.body), tk);
+        split_tokens(text.substr(out.body, end - out.body), tk);
         out.body = end + 1;
         if (line == 1) {
             if (tk.size() != 1 || tk[0] != "ply") return std::nullopt;
@@ -373,10 +373,11 @@ std::optional<Scene> read_mesh(Body body, const Layout& l, const std::string& pa
 }  // namespace
 
 std::optional<Scene> import_ply_native(const std::string& path) {
-    const std::string text = read_text_file(path);
+    const TextFile file(path);
+    const std::string_view text = file.text();
     const std::optional<Layout> l = layout_of(text);
     if (!l) return std::nullopt;
-    const std::string_view body = std::string_view(text).substr(l->body);
+    const std::string_view body = text.substr(l->body);
     using F = Layout::Format;
     if (l->format == F::ascii) return read_mesh(TextBody(body), *l, path);
     return read_mesh(BinaryBody(body, l->format == F::big_endian), *l, path);

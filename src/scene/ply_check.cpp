@@ -60,7 +60,8 @@ int64_t read_count(const unsigned char* p, const Property& prop, bool big_endian
 
 PlyCheck check_ply_structure(const std::string& path) {
     PlyCheck out;
-    std::string text = read_text_file(path);
+    const TextFile file(path);
+    const std::string_view text = file.text();
     TextParser p{path};
     std::vector<Element> elements;
     std::string format;

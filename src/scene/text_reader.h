@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/large_arrays.h"
 #include "rtt/error.h"
 #include "rtt/math.h"
 #include "scene/importers.h"
@@ -18,24 +19,31 @@ namespace rtt::detail {
 
 using Tokens = std::vector<std::string_view>;
 
-inline std::string read_text_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(path, 0, "cannot open");
-    // One read into a string of the file's size: a string stream grew by doubling and copied
-    // twice, a third of loading a 34 MB OBJ (docs/benchmarks.md, "First image"). What a size
-    // does not cover (no size: a pipe; a file still growing) is appended in blocks.
-    std::string text;
-    std::error_code ec;
-    if (const auto size = std::filesystem::file_size(path, ec); !ec) {
-        text.resize(size_t(size));
-        in.read(text.data(), std::streamsize(size));
-        text.resize(size_t(in.gcount()));
+/// A file's bytes, read in one call into an array of its size on huge pages
+/// (core/large_arrays.h). A string stream grown by doubling, then 4 KiB pages faulted one by
+/// one, were most of loading a 34 MB OBJ (docs/benchmarks.md, "First image"). What a size does
+/// not cover (no size: a pipe; a file still growing) is appended in blocks.
+class TextFile {
+public:
+    explicit TextFile(const std::string& path) {
+        std::ifstream in(path, std::ios::binary);
+        if (!in) throw Error(path, 0, "cannot open");
+        std::error_code ec;
+        if (const auto size = std::filesystem::file_size(path, ec); !ec) {
+            bytes_.resize(size_t(size));
+            in.read(bytes_.data(), std::streamsize(size));
+            bytes_.resize(size_t(in.gcount()));
+        }
+        char block[1 << 16];
+        while (in.read(block, sizeof block) || in.gcount() > 0)
+            bytes_.insert(bytes_.end(), block, block + in.gcount());
+        if (in.bad()) throw Error(path, 0, "cannot read");
     }
-    char block[1 << 16];
-    while (in.read(block, sizeof block) || in.gcount() > 0) text.append(block, size_t(in.gcount()));
-    if (in.bad()) throw Error(path, 0, "cannot read");
-    return text;
-}
+    std::string_view text() const { return {bytes_.data(), bytes_.size()}; }
+
+private:
+    large_vector<char> bytes_;
+};
 
 /// Splits at spaces, tabs, carriage returns and newlines into `out` (cleared first).
 inline void split_tokens(std::string_view line, Tokens& out) {
@@ -55,7 +63,7 @@ inline void split_tokens(std::string_view line, Tokens& out) {
 /// Calls `fn(tokens, line_number)` for every non-blank logical line of `text`: '#' comments
 /// stripped and, when `join_backslash`, a line ending in '\' joined with the next (OBJ).
 template <typename Fn>
-void for_each_line(const std::string& text, bool join_backslash, Fn&& fn) {
+void for_each_line(std::string_view text, bool join_backslash, Fn&& fn) {
     std::string joined;
     Tokens tokens;
     int line = 0, first_line = 0;
