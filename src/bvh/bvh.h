@@ -6,6 +6,7 @@
 // rays", says why the traversal's box margins keep it exact either way.
 #pragma once
 
+#include <concepts>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "core/large_arrays.h"
 #include "geom/triangle.h"
 #include "rtt/math.h"
+#include "rtt/scene.h"
 
 namespace rtt {
 
@@ -57,9 +59,37 @@ struct BvhBuildOptions {
 /// scenes; docs/benchmarks.md, "Arbitrary rays").
 inline constexpr BvhBuildOptions bvh_high_quality{0.25f};
 
+/// The triangles a BVH is built over: vertex triples, or a scene's vertices and index triples
+/// read in place (a copy of 900k triangles' triples cost the first image 50 ms of fresh memory;
+/// docs/benchmarks.md, "First image").
+class BuildTriangles {
+public:
+    /// Any contiguous array of triples (TriangleArray, std::vector, span).
+    template <typename Triples>
+    requires std::convertible_to<const Triples&, std::span<const TriangleVerts>> BuildTriangles(
+        const Triples& triples)
+        : triples_(triples) {}
+    explicit BuildTriangles(const Scene& scene)
+        : vertices_(scene.vertices), indices_(scene.triangles), indexed_(true) {}
+
+    size_t size() const { return indexed_ ? indices_.size() : triples_.size(); }
+    bool empty() const { return size() == 0; }
+    TriangleVerts operator[](size_t i) const {
+        if (!indexed_) return triples_[i];
+        const TriangleIndices& t = indices_[i];
+        return {vertices_[t[0]], vertices_[t[1]], vertices_[t[2]]};
+    }
+
+private:
+    std::span<const TriangleVerts> triples_;
+    std::span<const Vec3f> vertices_;
+    std::span<const TriangleIndices> indices_;
+    bool indexed_ = false;
+};
+
 /// Builds the hierarchy over `triangles` (binned SAH) on the calling thread's oneTBB arena; the
 /// result does not depend on the number of threads. Throws rtt::Error beyond bvh_max_triangles.
 template <int W>
-Bvh<W> build_bvh(std::span<const TriangleVerts> triangles, const BvhBuildOptions& options = {});
+Bvh<W> build_bvh(const BuildTriangles& triangles, const BvhBuildOptions& options = {});
 
 }  // namespace rtt

@@ -240,13 +240,13 @@ struct SlabPlanes {
 template <int W>
 class WideBuilder {
 public:
-    WideBuilder(std::span<const TriangleVerts> tris, const BvhBuildOptions& options)
+    WideBuilder(const BuildTriangles& tris, const BvhBuildOptions& options)
         : tris_(tris),
           refs_(tris.size() + size_t(double(tris.size()) * double(options.spatial_split_budget))) {
         tbb::parallel_for(tbb::blocked_range<size_t>(0, tris.size(), 4096),
                           [&](const tbb::blocked_range<size_t>& r) {
                               for (size_t i = r.begin(); i < r.end(); ++i) {
-                                  const TriangleVerts& t = tris[i];
+                                  const TriangleVerts t = tris[i];
                                   PrimRef& p = refs_[i];
                                   for (int a = 0; a < 3; ++a) {
                                       p.lo[a] = std::min(std::min(t.v0[a], t.v1[a]), t.v2[a]);
@@ -781,7 +781,7 @@ private:
                             continue;
                         }
                         // The part in each slab, the rest split again at the next plane.
-                        const TriangleVerts& tri = tris_[p.id()];
+                        const TriangleVerts tri = tris_[p.id()];
                         Box4 rest{lo, hi};
                         for (int b = b0; b < b1; ++b) {
                             Box4 below;
@@ -831,7 +831,7 @@ private:
             for (uint32_t l = 0; l < 4; ++l) {
                 const uint32_t k = b * 4 + l;
                 const uint32_t id = k < count ? refs_[r.first + k].id() : invalid_triangle;
-                const TriangleVerts& t = tris_[k < count ? id : refs_[r.first].id()];
+                const TriangleVerts t = tris_[k < count ? id : refs_[r.first].id()];
                 for (int a = 0; a < 3; ++a) {
                     q.v0[a][l] = t.v0[a];
                     q.v1[a][l] = t.v1[a];
@@ -847,7 +847,7 @@ private:
     // Leaves test four triangles at once: the SAH counts blocks of four.
     static float blocks_of(uint32_t n) { return float((n + 3) / 4); }
 
-    std::span<const TriangleVerts> tris_;
+    BuildTriangles tris_;         ///< Spans: the caller keeps the triangles alive.
     large_vector<PrimRef> refs_;  ///< The triangles' references, then room for copies.
     tbb::enumerable_thread_specific<std::vector<BinaryNode>> binary_trees_;
     float root_area_ = 0.f;
@@ -856,7 +856,7 @@ private:
 }  // namespace
 
 template <int W>
-Bvh<W> build_bvh(std::span<const TriangleVerts> triangles, const BvhBuildOptions& options) {
+Bvh<W> build_bvh(const BuildTriangles& triangles, const BvhBuildOptions& options) {
     if (triangles.size() >= bvh_max_triangles)
         throw Error("the bvh tracer takes at most 134,217,727 triangles");
     // At most 2^28 references: every leaf block stays addressable.
@@ -866,8 +866,8 @@ Bvh<W> build_bvh(std::span<const TriangleVerts> triangles, const BvhBuildOptions
     return WideBuilder<W>(triangles, options).build();
 }
 
-template Bvh<4> build_bvh<4>(std::span<const TriangleVerts>, const BvhBuildOptions&);
-template Bvh<8> build_bvh<8>(std::span<const TriangleVerts>, const BvhBuildOptions&);
-template Bvh<16> build_bvh<16>(std::span<const TriangleVerts>, const BvhBuildOptions&);
+template Bvh<4> build_bvh<4>(const BuildTriangles&, const BvhBuildOptions&);
+template Bvh<8> build_bvh<8>(const BuildTriangles&, const BvhBuildOptions&);
+template Bvh<16> build_bvh<16>(const BuildTriangles&, const BvhBuildOptions&);
 
 }  // namespace rtt

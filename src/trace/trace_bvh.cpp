@@ -241,7 +241,7 @@ template <int W>
 class BvhTracer final : public Tracer {
 public:
     BvhTracer(const Scene& scene, const BvhBuildOptions& options)
-        : bvh_(build_bvh<W>(gather_triangles(scene), options)),
+        : bvh_(build_bvh<W>(BuildTriangles(scene), options)),
           name_(options.spatial_split_budget > 0.f ? "bvh-high" : "bvh") {}
     std::string_view name() const override { return name_; }
 
