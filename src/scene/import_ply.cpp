@@ -17,48 +17,13 @@
 
 #include "rtt/memory_budget.h"
 #include "scene/importers.h"
+#include "scene/ply_types.h"
 #include "scene/text_reader.h"
 
 namespace rtt::detail {
 namespace {
 
-enum class Type : uint8_t { none, i8, u8, i16, u16, i32, u32, f32, f64 };
-
-Type type_of(std::string_view t) {
-    if (t == "char" || t == "int8") return Type::i8;
-    if (t == "uchar" || t == "uint8") return Type::u8;
-    if (t == "short" || t == "int16") return Type::i16;
-    if (t == "ushort" || t == "uint16") return Type::u16;
-    if (t == "int" || t == "int32") return Type::i32;
-    if (t == "uint" || t == "uint32") return Type::u32;
-    if (t == "float" || t == "float32") return Type::f32;
-    if (t == "double" || t == "float64") return Type::f64;
-    return Type::none;
-}
-
-size_t size_of(Type t) {
-    switch (t) {
-        case Type::i8:
-        case Type::u8:
-            return 1;
-        case Type::i16:
-        case Type::u16:
-            return 2;
-        case Type::i32:
-        case Type::u32:
-        case Type::f32:
-            return 4;
-        case Type::f64:
-            return 8;
-        case Type::none:
-            break;
-    }
-    return 0;
-}
-
-bool is_float(Type t) {
-    return t == Type::f32 || t == Type::f64;
-}
+using Type = PlyType;
 
 /// Values in the file's byte order. A value is read as assimp converts it: floats and doubles to
 /// float (rounded), integers by value. Every read checks that the bytes are there.
@@ -68,15 +33,15 @@ public:
 
     /// Values of a record that fit in the rest of the body at most (for allocation guards).
     size_t room(size_t record_bytes) const { return (bytes_.size() - at_) / record_bytes; }
-    static size_t least_bytes(Type t) { return size_of(t); }
+    static size_t least_bytes(Type t) { return ply_size(t); }
     bool skip(Type t) {
-        if (bytes_.size() - at_ < size_of(t)) return false;
-        at_ += size_of(t);
+        if (bytes_.size() - at_ < ply_size(t)) return false;
+        at_ += ply_size(t);
         return true;
     }
     template <typename Out>
     bool read(Type t, Out& out) {
-        if (bytes_.size() - at_ < size_of(t)) return false;
+        if (bytes_.size() - at_ < ply_size(t)) return false;
         switch (t) {
             case Type::i8:
                 out = Out(int8_t(bits<uint8_t>()));
@@ -271,10 +236,10 @@ std::optional<Layout> layout_of(std::string_view text) {
         } else if (tk[0] == "property" && !elements.empty()) {
             Property prop;
             if (tk.size() == 5 && tk[1] == "list") {
-                prop = {std::string(tk[4]), type_of(tk[3]), type_of(tk[2])};
+                prop = {std::string(tk[4]), ply_type(tk[3]), ply_type(tk[2])};
                 if (prop.count_type == Type::none) return std::nullopt;
             } else if (tk.size() == 3) {
-                prop = {std::string(tk[2]), type_of(tk[1]), Type::none};
+                prop = {std::string(tk[2]), ply_type(tk[1]), Type::none};
             } else {
                 return std::nullopt;
             }
@@ -292,7 +257,7 @@ std::optional<Layout> layout_of(std::string_view text) {
     const std::vector<Property>& fp = out.face.props;
     if (out.vertex.count == 0 || out.face.count == 0 || out.vertex.count >= invalid_triangle ||
         out.face.count >= invalid_triangle || fp.size() != 1 || fp[0].count_type == Type::none ||
-        is_float(fp[0].count_type) || is_float(fp[0].type) ||
+        ply_float(fp[0].count_type) || ply_float(fp[0].type) ||
         (fp[0].name != "vertex_indices" && fp[0].name != "vertex_index"))
         return std::nullopt;
     out.slot.assign(out.vertex.props.size(), -1);

@@ -8,6 +8,7 @@
 #include <algorithm>
 
 #include "scene/importers.h"
+#include "scene/ply_types.h"
 #include "scene/text_reader.h"
 
 namespace rtt::detail {
@@ -24,21 +25,6 @@ struct Element {
     uint64_t count = 0;
     std::vector<Property> props;
 };
-
-/// Size in bytes of a PLY scalar type, 0 if unknown.
-int type_size(std::string_view t) {
-    if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
-    if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
-    if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float" ||
-        t == "float32")
-        return 4;
-    if (t == "double" || t == "float64") return 8;
-    return 0;
-}
-
-bool type_signed(std::string_view t) {
-    return t == "char" || t == "int8" || t == "short" || t == "int16" || t == "int" || t == "int32";
-}
 
 [[noreturn]] void truncated(const std::string& path, const Element& e, uint64_t i) {
     throw Error(path, 0,
@@ -97,11 +83,11 @@ PlyCheck check_ply_structure(const std::string& path) {
             if (elements.empty()) p.fail("property before any element");
             Property prop;
             if (tk.size() >= 5 && tk[1] == "list") {
-                prop.count_size = type_size(tk[2]);
-                prop.count_signed = type_signed(tk[2]);
-                prop.size = type_size(tk[3]);
+                prop.count_size = int(ply_size(ply_type(tk[2])));
+                prop.count_signed = ply_signed_integer(ply_type(tk[2]));
+                prop.size = int(ply_size(ply_type(tk[3])));
             } else if (tk.size() >= 3) {
-                prop.size = type_size(tk[1]);
+                prop.size = int(ply_size(ply_type(tk[1])));
             }
             if (prop.size == 0 || (tk[1] == "list" && prop.count_size == 0))
                 p.fail("bad property line");
