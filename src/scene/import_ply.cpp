@@ -283,6 +283,12 @@ std::optional<Scene> read_mesh(Body body, const Layout& l, const std::string& pa
     size_t record = 0;
     for (const Property& p : l.vertex.props) record += Body::least_bytes(p.type);
     if (body.room(record) < l.vertex.count) return std::nullopt;  // before allocating
+    // The vertices are bounded by the file's size; the triangles also by memory, as
+    // Scene::add_mesh bounds them.
+    const auto fits = [&](size_t triangles) {
+        require_memory(scene_memory_bytes(l.vertex.count, triangles),
+                       "a scene of " + std::to_string(triangles) + " triangles");
+    };
     std::vector<Vec3f> verts(l.vertex.count), normals(l.normals ? l.vertex.count : 0);
     for (uint64_t v = 0; v < l.vertex.count; ++v) {
         float value[6] = {};
@@ -304,6 +310,7 @@ std::optional<Scene> read_mesh(Body body, const Layout& l, const std::string& pa
     if (body.room(Body::least_bytes(list.count_type) + 3 * Body::least_bytes(list.type)) <
         l.face.count)
         return std::nullopt;
+    fits(l.face.count);  // at least a triangle per face, before allocating them
     std::vector<TriangleIndices> tris;
     tris.reserve(l.face.count);
     std::vector<uint32_t> poly;
@@ -323,9 +330,8 @@ std::optional<Scene> read_mesh(Body body, const Layout& l, const std::string& pa
         append_fan(poly.data(), poly.size(), tris);
     }
     if (!body.at_end()) return std::nullopt;
+    fits(tris.size());
     // As Scene::add_mesh would make it, without copying the arrays.
-    require_memory(scene_memory_bytes(verts.size(), tris.size()),
-                   "a scene of " + std::to_string(tris.size()) + " triangles");
     Scene scene;
     scene.name = path;
     scene.triangle_material.assign(tris.size(), scene.add_material(Material{}));
