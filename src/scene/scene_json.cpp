@@ -347,17 +347,22 @@ private:
     /// its own materials (a mesh file's), appended to the scene's.
     void append(const Scene& part, const Affine& xf, std::optional<uint32_t> mat,
                 const std::string& ptr) {
+        // Untransformed parts go in as they are, without a copy before add_mesh's own (tens of
+        // MB for a scan).
         const bool identity = xf.is_identity();
-        std::vector<Vec3f> verts = part.vertices, normals = part.normals;
+        std::vector<Vec3f> moved, moved_normals;
         if (!identity) {
-            for (Vec3f& v : verts) {
+            moved = part.vertices;
+            moved_normals = part.normals;
+            for (Vec3f& v : moved) {
                 v = xf.point(v);
                 if (!is_finite(v)) fail(ptr + "/transform", "moves a vertex to infinity");
             }
-            for (Vec3f& n : normals) n = xf.normal(n);
+            for (Vec3f& n : moved_normals) n = xf.normal(n);
         }
         const size_t first = scene_.triangles.size();
-        scene_.add_mesh(verts, part.triangles, mat.value_or(0), normals);
+        scene_.add_mesh(identity ? part.vertices : moved, part.triangles, mat.value_or(0),
+                        identity ? part.normals : moved_normals);
         if (!mat) {
             const auto base = uint32_t(scene_.materials.size());
             scene_.materials.insert(scene_.materials.end(), part.materials.begin(),
