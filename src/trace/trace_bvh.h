@@ -16,7 +16,7 @@ namespace rtt {
 inline namespace RTT_ISA_NS {
 
 /// Children per node of this ISA's kernel: one node test is one vector of the ISA's widest (16
-/// children against 8 on AVX-512: docs/benchmarks.md, "Arbitrary rays", "Full wide nodes").
+/// children against 8 on AVX-512: docs/benchmarks.md, "Arbitrary rays", the BVH's choices).
 inline constexpr int bvh_width = simd_max_width;
 
 /// Byte offsets in a BvhNode<W> of the faces rays enter and leave by on each axis: lo then hi,
