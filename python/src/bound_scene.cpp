@@ -3,11 +3,11 @@
 #include <tbb/blocked_range2d.h>
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
 
+#include "arrays.h"
 #include "rtt/camera.h"
 #include "rtt/error.h"
 
@@ -17,10 +17,8 @@ namespace {
 /// Runs f in an arena of `threads` threads (0 = all cores) and returns its wall seconds.
 template <typename F>
 double timed_in_arena(int threads, const F& f) {
-    if (threads < 0) throw Error("threads must be at least 0 (0 = all cores)");
-    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
     const auto start = std::chrono::steady_clock::now();
-    arena.execute(f);
+    in_arena(threads, f);
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
