@@ -92,6 +92,14 @@ RTT_FORCEINLINE vint16 max(vint16 a, vint16 b) {
 RTT_FORCEINLINE vint16 select(vbool16 m, vint16 t, vint16 f) {
     return _mm512_mask_blend_epi32(m, f, t);
 }
+/// The lanes of `a` where m is set, in lane order from lane 0; zero above them.
+RTT_FORCEINLINE vint16 compress(vbool16 m, vint16 a) {
+    return _mm512_maskz_compress_epi32(m, a);
+}
+/// Lane i = a[index[i] & 15].
+RTT_FORCEINLINE vint16 permute(vint16 a, vint16 index) {
+    return _mm512_permutexvar_epi32(index, a);
+}
 
 }  // namespace RTT_ISA_NS
 }  // namespace rtt

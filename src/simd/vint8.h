@@ -93,6 +93,14 @@ RTT_FORCEINLINE vint8 max(vint8 a, vint8 b) {
 RTT_FORCEINLINE vint8 select(vbool8 m, vint8 t, vint8 f) {
     return _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(f), _mm256_castsi256_ps(t), m));
 }
+/// Lane i = a[index[i] & 7].
+RTT_FORCEINLINE vint8 permute(vint8 a, vint8 index) {
+    return _mm256_permutevar8x32_epi32(a, index);
+}
+/// Lane i = byte i of `bytes`, zero-extended.
+RTT_FORCEINLINE vint8 widen_bytes(uint64_t bytes) {
+    return _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(int64_t(bytes)));
+}
 
 }  // namespace RTT_ISA_NS
 }  // namespace rtt

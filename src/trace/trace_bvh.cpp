@@ -6,9 +6,12 @@
 #include "trace/trace_bvh.h"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cfloat>
 #include <cmath>
 #include <cstddef>
+#include <type_traits>
 
 #include "simd/simd.h"
 #include "trace/kernels.h"
@@ -146,6 +149,49 @@ struct StackEntry {
     float near;
 };
 
+#ifdef RTT_HAVE_SIMD8
+/// For each 8-bit mask, its set lanes from the highest down, one byte each.
+constexpr auto descending_lanes = [] {
+    std::array<uint64_t, 256> table{};
+    for (uint32_t m = 0; m < 256; ++m)
+        for (int lane = 7, n = 0; lane >= 0; --lane)
+            if ((m >> lane) & 1u) table[m] |= uint64_t(lane) << (8 * n++);
+    return table;
+}();
+#endif
+
+/// Pushes the children of `mask` so that they pop in slot order, the lowest first; returns how
+/// many. An any-hit ray takes the builder's order (order_for_any_hit) and needs no distances.
+/// Wide nodes push without a loop, whose exit mispredicts about once a node; the full-width
+/// store needs W spare slots above the stack's top.
+template <int W>
+RTT_FORCEINLINE int push_in_slot_order(const BvhNode<W>& node, uint32_t mask, uint32_t* top) {
+    const int n = std::popcount(mask);
+#ifdef RTT_HAVE_SIMD16
+    if constexpr (W == 16) {
+        // The lanes in use packed from lane 0, then reversed.
+        const vint16 packed = compress(vbool16::from_bits(mask),
+                                       vint16::load(reinterpret_cast<const int32_t*>(node.child)));
+        storeu(reinterpret_cast<int32_t*>(top), permute(packed, vint16(n - 1) - vint16::step()));
+        return n;
+    }
+#endif
+#ifdef RTT_HAVE_SIMD8
+    if constexpr (W == 8) {
+        const vint8 child = vint8::load(reinterpret_cast<const int32_t*>(node.child));
+        storeu(reinterpret_cast<int32_t*>(top),
+               permute(child, widen_bytes(descending_lanes[mask])));
+        return n;
+    }
+#endif
+    for (int k = 0; mask; ++k) {
+        const int last = 31 - std::countl_zero(mask);
+        top[k] = node.child[last];
+        mask &= ~(1u << last);
+    }
+    return n;
+}
+
 template <int W, bool AnyHit>
 Hit traverse(const Bvh<W>& bvh, const Ray& ray) {
     Hit best;
@@ -153,8 +199,9 @@ Hit traverse(const Bvh<W>& bvh, const Ray& ray) {
     WatertightRay wr(ray);
     const WatertightRay4 wr4(wr);
     const BoxRay<W> br(ray, bvh.padded_bounds);
-    // Each node pushes at most W - 1 children: W - 1 per level, bvh_max_depth levels.
-    StackEntry stack[(W - 1) * bvh_max_depth + W];
+    // Each node pushes at most W - 1 children: W - 1 per level, bvh_max_depth levels. Any-hit
+    // rays need no distances.
+    std::conditional_t<AnyHit, uint32_t, StackEntry> stack[(W - 1) * bvh_max_depth + W];
     int top = 0;
     uint32_t cur = 0;  // the root
     for (;;) {
@@ -188,11 +235,7 @@ Hit traverse(const Bvh<W>& bvh, const Ray& ray) {
                     // (order_for_any_hit): the first now, the others pushed from the last so
                     // that they pop in that order.
                     cur = node.child[std::countr_zero(mask)];
-                    for (mask &= mask - 1; mask;) {
-                        const int last = 31 - std::countl_zero(mask);
-                        stack[top++] = {node.child[last], neg_inf};
-                        mask &= ~(1u << last);
-                    }
+                    top += push_in_slot_order(node, mask & (mask - 1), stack + top);
                     continue;
                 }
             } else if (mask) {
@@ -226,12 +269,17 @@ Hit traverse(const Bvh<W>& bvh, const Ray& ray) {
             }
         }
         // Next: the nearest waiting subtree that may still hold a closer hit.
-        for (;;) {
+        if constexpr (AnyHit) {
             if (top == 0) return best;
-            const StackEntry& e = stack[--top];
-            if (e.near <= wr.tmax) {
-                cur = e.child;
-                break;
+            cur = stack[--top];
+        } else {
+            for (;;) {
+                if (top == 0) return best;
+                const StackEntry& e = stack[--top];
+                if (e.near <= wr.tmax) {
+                    cur = e.child;
+                    break;
+                }
             }
         }
     }
