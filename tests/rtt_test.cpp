@@ -19,10 +19,12 @@
 #include <vector>
 
 #include "geom/triangle.h"
+#include "relevant_triangles/measured_choice.h"
 #include "rtt/builtin_scenes.h"
 #include "rtt/camera.h"
 #include "rtt/kdtree.h"
 #include "rtt/render.h"
+#include "rtt/rtt_options.h"
 #include "rtt/tracer.h"
 #include "same_hit.h"
 #include "triangle_soup.h"
@@ -82,6 +84,7 @@ std::vector<Ray> tile_rays(const CameraRays& cam, int tx, int ty) {
 struct Tally {
     uint64_t rays = 0, mismatches = 0, answered = 0, answered_misses = 0;
     uint64_t segments = 0, segment_mismatches = 0, segments_answered = 0;
+    uint64_t bvh_rays = 0;  ///< Traced through RTT's BVH (RttStats::bvh_rays).
 
     double answered_fraction() const { return rays ? double(answered) / double(rays) : 0.0; }
     double segments_answered_fraction() const {
@@ -106,10 +109,11 @@ struct Differ {
     std::unique_ptr<Tracer> rtt;
     std::unique_ptr<Tracer> reference;
 
-    Differ(const Scene& s, const KdTree& t, const char* reference_kind)
+    Differ(const Scene& s, const KdTree& t, const char* reference_kind,
+           const RttOptions& options = {})
         : scene(s),
           tree(t),
-          rtt(make_tracer("rtt", s, t)),
+          rtt(make_rtt_tracer(s, t, options)),
           reference(make_tracer(reference_kind, s, t)) {}
 
     /// `region`: pixels per tile side as RenderOptions::region (4 = one 4x4-pixel tile; larger
@@ -172,6 +176,7 @@ struct Differ {
                         rtt->occluded(seg, vis_got, TraceContext{&ss, &rss, answers});
                         reference->occluded(seg, vis_want);
                         EXPECT_EQ(ss.traced + rss.answered, ss.rays);
+                        tally.bvh_rays += rss.bvh_rays;
                         for (size_t i = 0; i < ns; ++i) {
                             if (!active[i]) {
                                 EXPECT_EQ(vis_got[i], 0);
@@ -569,7 +574,15 @@ TEST(Rtt, RegionsOnCornerRaysAndSoupsMatchBruteForce) {
 // it and the light, a light inside the scene's bounds and one outside, near the origin and far
 // from it. Receivers on many planes, regions at every K: every segment must equal the
 // reference's.
+// Declined shadow regions through the kd-tree's packets (the BVH not built), through the BVH's,
+// and both in turn (ShadowFallback::measured while it times them, which on these few tiles it
+// does throughout).
 TEST(Rtt, ShadowsOnCurvedReceiversMatchReference) {
+    const RttOptions configs[] = {
+        {},
+        {.bvh_at_setup = true, .shadow_fallback = ShadowFallback::bvh},
+        {.bvh_at_setup = true},
+    };
     for (const Vec3f offset : {Vec3f{0, 0, 0}, Vec3f{3e3f, -2e3f, 1e3f}}) {
         Tris t;
         add_sphere(t, Vec3f{0, 0, 0} + offset, 1.f, 120, 60);
@@ -577,17 +590,47 @@ TEST(Rtt, ShadowsOnCurvedReceiversMatchReference) {
         add_box(t, Vec3f{0.5f, 1.6f, 0.2f} + offset, Vec3f{0.8f, 1.7f, 0.5f} + offset, 1);
         const Scene scene = scene_of(t);
         const KdTree tree = build_kdtree(scene);
-        Differ d(scene, tree, "ray");
         const Camera camera{Vec3f{0.4f, 1.2f, 3.2f} + offset, offset, {0, 1, 0}, 40};
-        Tally tally;
-        for (const Vec3f light : {Vec3f{1.5f, 3.f, 1.f}, Vec3f{-8.f, 12.f, 9.f}}) {
-            d.run(camera, 64, 48, 1, {light + offset}, tally, 16);
-            d.run(camera, 32, 24, 2, {light + offset}, tally, 8);
-            d.run(camera, 24, 20, 4, {light + offset}, tally, 4);
+        std::vector<uint64_t> bvh_rays;
+        for (const RttOptions& options : configs) {
+            Differ d(scene, tree, "ray", options);
+            Tally tally;
+            for (const Vec3f light : {Vec3f{1.5f, 3.f, 1.f}, Vec3f{-8.f, 12.f, 9.f}}) {
+                d.run(camera, 64, 48, 1, {light + offset}, tally, 16);
+                d.run(camera, 32, 24, 2, {light + offset}, tally, 8);
+                d.run(camera, 24, 20, 4, {light + offset}, tally, 4);
+            }
+            tally.print(offset.x == 0.f ? "curved receivers" : "curved receivers, far");
+            EXPECT_EQ(tally.mismatches, 0u);
+            EXPECT_EQ(tally.segment_mismatches, 0u);
+            bvh_rays.push_back(tally.bvh_rays);
         }
-        tally.print(offset.x == 0.f ? "curved receivers" : "curved receivers, far");
-        EXPECT_EQ(tally.mismatches, 0u);
-        EXPECT_EQ(tally.segment_mismatches, 0u);
+        EXPECT_EQ(bvh_rays[0], 0u);  // the BVH is built after 150 segments per triangle
+        EXPECT_GT(bvh_rays[1], 0u);
+        EXPECT_GT(bvh_rays[2], 0u);
+        EXPECT_LT(bvh_rays[2], bvh_rays[1]);  // the kd-tree's turns
+    }
+}
+
+TEST(Rtt, MeasuredChoiceTakesTheFasterWay) {
+    using rtt_detail::MeasuredChoice;
+    for (const int faster : {0, 1}) {
+        MeasuredChoice choice;
+        EXPECT_EQ(choice.chosen(), -1);
+        uint64_t turns[2] = {};
+        // Tiles of 1,000 rays: 10 ns a ray one way, 12 the other, until both have their probe.
+        while (choice.chosen() < 0) {
+            const int way = choice.pick();
+            ++turns[way];
+            choice.record(way, way == faster ? 10'000 : 12'000, 1'000);
+        }
+        EXPECT_EQ(choice.chosen(), faster);
+        const uint64_t tiles = MeasuredChoice::probe_rays / 1'000 + 1;
+        EXPECT_EQ(turns[0], tiles);  // in turn until both have their rays
+        EXPECT_EQ(turns[1], tiles);
+        for (int k = 0; k < 4; ++k) EXPECT_EQ(choice.pick(), faster);
+        choice.record(1 - faster, 1, 1'000'000);  // a later record changes nothing
+        EXPECT_EQ(choice.chosen(), faster);
     }
 }
 

@@ -84,6 +84,16 @@ enum class RttRules : uint8_t {
     paper,
 };
 
+/// How RTT traces the shadow regions it declines once its BVH is built (RttOptions).
+enum class ShadowFallback : uint8_t {
+    /// Both ways in turn on the first declined regions, timed; then the faster per segment.
+    measured,
+    /// The kd-tree's packets, behind the blocker cache.
+    kd_tree,
+    /// The BVH's packets, behind the blocker cache.
+    bvh,
+};
+
 struct RttOptions {
     RttRules rules = RttRules::extended;
     /// The shaft walk gives a tile of n samples up (and traces it) after entering
@@ -112,6 +122,10 @@ struct RttOptions {
     /// tracer, for long renders and for benchmarks that time frames apart from builds. Loose rays
     /// off curved mirrors use the same BVH.
     bool bvh_at_setup = false;
+    /// Declined shadow regions take the BVH too once it is built or such segments have paid for
+    /// it (about 150 per triangle): faster where they leave dense meshes, slower where they end
+    /// in foliage (docs/benchmarks.md, "RTT's fallback"), so by default measured per tracer.
+    ShadowFallback shadow_fallback = ShadowFallback::measured;
 
     /// Throws rtt::Error for a value out of range.
     void validate() const;

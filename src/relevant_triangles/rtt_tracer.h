@@ -16,6 +16,7 @@
 //   tile.h                tile helpers: samples still to trace, corners, end planes;
 //   primary_tiles.cpp     primary and reflected tiles: the list's use and the answers;
 //   shadow_tiles.cpp      shadow segments;
+//   measured_choice.h     the faster of two ways for declined shadow regions, timed;
 //   rtt_options.cpp       RttOptions' checks.
 // Every ray not answered from a list is traced: declined camera and mirror regions as one
 // large packet (src/trace/trace_frustum.h) when narrow, the rest as the widest packets
@@ -36,6 +37,7 @@
 
 #include "geom/plane_id.h"
 #include "relevant_triangles/corner_pass.h"
+#include "relevant_triangles/measured_choice.h"
 #include "relevant_triangles/region.h"
 #include "relevant_triangles/tile.h"
 #include "relevant_triangles/tolerances.h"
@@ -80,6 +82,9 @@ inline constexpr double loose_rays_per_triangle = 10.0;
 /// Rays of declined regions per triangle after which the BVH is built for them: its
 /// build over what it saves per such ray (docs/benchmarks.md, "RTT's fallback").
 inline constexpr double declined_rays_per_triangle = 30.0;
+/// The same for declined shadow segments, which the BVH saves less (about 3.5 ns each on the
+/// bumpy sphere against 0.5 us per triangle of build; docs/benchmarks.md, "RTT's fallback").
+inline constexpr double declined_segments_per_triangle = 150.0;
 // The budgets and the lean pass's extent are RttOptions (include/rtt/rtt_options.h); the
 // defaults there were measured in docs/benchmarks.md ("RTT: where it pays", "Regions", "RTT's
 // fallback"). Cost rules, not exactness ones.
@@ -203,6 +208,11 @@ private:
                         RttStats& st) const;
     void occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visible,
                         std::span<SampleAnswer> answers, RttStats& st) const;
+    /// A shadow region no list answers, `active` segments: the kd-tree's packets, or the BVH's
+    /// once it is built or has paid for its build, as RttOptions::shadow_fallback says; counts
+    /// BVH rays in `st`.
+    void trace_declined(const SegmentTile& tile, std::span<uint8_t> visible, BlockerCache& blockers,
+                        uint64_t active, RttStats& st) const;
     bool one_receiver_plane(const SegmentTile& tile) const;
     /// Where a primary shaft's region ends: the slab end of the 4 corner hits (t, tri) and the
     /// plane they all lie on (plane_id = no_plane when they lie on several, or the apex is on
@@ -260,6 +270,8 @@ private:
     mutable std::atomic<bool> bvh_built_{false};
     mutable std::atomic<uint64_t> loose_rays_{0};     ///< Spread rays of tiles that are no shaft.
     mutable std::atomic<uint64_t> declined_rays_{0};  ///< Rays of declined regions.
+    mutable std::atomic<uint64_t> declined_segments_{0};  ///< Of declined shadow regions.
+    mutable MeasuredChoice shadow_fallback_;  ///< 0: kd-tree, 1: BVH (ShadowFallback::measured).
 };
 
 }  // namespace rtt_detail

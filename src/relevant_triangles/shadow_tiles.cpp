@@ -71,6 +71,31 @@ void RttTracer::occluded(const SegmentTile& tile, std::span<uint8_t> visible,
     record_tile(active_count, st, context);
 }
 
+void RttTracer::trace_declined(const SegmentTile& tile, std::span<uint8_t> visible,
+                               BlockerCache& blockers, uint64_t active, RttStats& st) const {
+    const ShadowFallback how = options_.shadow_fallback;
+    int way = 0;  // the kd-tree
+    bool timed = false;
+    if (how != ShadowFallback::kd_tree &&
+        bvh_pays(declined_segments_, declined_segments_per_triangle, active)) {
+        bvh();  // built before any timing starts
+        way = how == ShadowFallback::bvh ? 1 : shadow_fallback_.pick();
+        timed = how == ShadowFallback::measured && shadow_fallback_.chosen() < 0;
+    }
+    const auto start = std::chrono::steady_clock::now();
+    if (way == 1) {
+        visible_bvh_segments(bvh(), tile, visible, blockers);
+        st.bvh_rays += active;
+    } else {
+        occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible, nullptr, &blockers);
+    }
+    if (timed) {
+        const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+            std::chrono::steady_clock::now() - start);
+        shadow_fallback_.record(way, uint64_t(ns.count()), active);
+    }
+}
+
 namespace {
 
 /// True when the end point L + w of a segment lies on the light's side of the receiver plane
@@ -98,7 +123,9 @@ void RttTracer::occluded_shaft(const SegmentTile& tile, std::span<uint8_t> visib
     // n . (x - L) = t n.w >= -tmax (H + receiver_tol).
     const auto trace_all = [&](Decline why) {
         const FallbackClock clock(st.fallback_ns);
-        occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible, nullptr, &blockers);
+        uint64_t active = 0;
+        for (const uint8_t a : tile.active) active += a != 0;
+        trace_declined(tile, visible, blockers, active, st);
         count_decline(st, why);
     };
     FacingPlane receiver;

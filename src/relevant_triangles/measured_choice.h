@@ -1,0 +1,58 @@
+// Which of two exact ways of tracing is faster on this scene, measured while tracing. Declined
+// shadow regions have two: the kd-tree's packets behind the blocker cache, faster where the
+// segments end in foliage (plants at K = 4), and the BVH's, faster where they leave dense
+// meshes (docs/benchmarks.md, "RTT's fallback"). No count predicted which; timing both does.
+// Only the speed depends on the choice, never an answer.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+
+#include "simd/isa.h"
+
+namespace rtt {
+inline namespace RTT_ISA_NS {
+namespace rtt_detail {
+
+class MeasuredChoice {
+public:
+    /// Rays timed per way before the choice: about a third of a 1024x768 frame's declined
+    /// shadow segments, so that both ways see every part of the image (the first few dozen
+    /// tiles chose wrongly on office).
+    static constexpr uint64_t probe_rays = uint64_t(1) << 20;
+
+    /// The way (0 or 1) for the next tile: the two in turn, so that they share the image and
+    /// the host's load, until the choice is made.
+    int pick() {
+        const int chosen = chosen_.load(std::memory_order_relaxed);
+        if (chosen >= 0) return chosen;
+        return int(turn_.fetch_add(1, std::memory_order_relaxed) & 1u);
+    }
+
+    /// A tile of `rays` traced by `way` in `ns`. Once both ways have probe_rays, the one with
+    /// fewer nanoseconds per ray is chosen.
+    void record(int way, uint64_t ns, uint64_t rays) {
+        if (chosen_.load(std::memory_order_relaxed) >= 0) return;
+        ns_[way].fetch_add(ns, std::memory_order_relaxed);
+        const uint64_t before = rays_[way].fetch_add(rays, std::memory_order_acq_rel);
+        if (before >= probe_rays || before + rays < probe_rays) return;
+        // This tile completed `way`'s probe; the second way to complete decides (a record
+        // still under way may be left out).
+        if (ready_.fetch_add(1, std::memory_order_acq_rel) != 1) return;
+        const double per_ray[2] = {double(ns_[0].load()) / double(rays_[0].load()),
+                                   double(ns_[1].load()) / double(rays_[1].load())};
+        chosen_.store(per_ray[1] < per_ray[0] ? 1 : 0, std::memory_order_relaxed);
+    }
+
+    /// The way chosen, or -1 while both are still timed.
+    int chosen() const { return chosen_.load(std::memory_order_relaxed); }
+
+private:
+    std::atomic<int> chosen_{-1};
+    std::atomic<uint32_t> turn_{0}, ready_{0};
+    std::atomic<uint64_t> ns_[2] = {0, 0}, rays_[2] = {0, 0};
+};
+
+}  // namespace rtt_detail
+}  // namespace RTT_ISA_NS
+}  // namespace rtt
