@@ -4,9 +4,11 @@
 // rays are `rtt bench`'s (apps/rtt/experiments/workload.h), so the two tools measure the same
 // thing.
 //
-//   bench_trace [--scene=room] [--size=640x480] [--aa=1] [--region=0] [Google Benchmark flags]
+//   bench_trace [--scene=room] [--size=640x480] [--aa=1] [--region=0]
+//               [--shadow-fallback=measured|kd|bvh] [Google Benchmark flags]
 //
 // --region: pixels per tile side, as `rtt render --region` (0 = the renderer's default per K).
+// --shadow-fallback: how rtt traces the shadow regions it declines (RttOptions::shadow_fallback).
 //
 // One tracing thread. Counter Mrays = million rays (active segments) per CPU second of that
 // thread (Google Benchmark's rate; steadier than wall time on a shared machine).
@@ -23,6 +25,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "bench_args.h"
@@ -42,10 +45,15 @@ struct Frame {
     std::vector<std::vector<uint8_t>> tile_answered, job_answered;
 };
 
+/// How rtt traces the shadow regions it declines (--shadow-fallback).
+ShadowFallback shadow_fallback = ShadowFallback::measured;
+
 /// The tracer `kind` as timed here: rtt with its BVH built at setup, as in rtt bench
 /// (RttOptions::bvh_at_setup), so no frame pays for the build.
 std::unique_ptr<Tracer> timed_tracer(const std::string& kind, const BenchScene& scene) {
-    if (kind == "rtt") return make_rtt_tracer(scene.scene, scene.tree, {.bvh_at_setup = true});
+    if (kind == "rtt")
+        return make_rtt_tracer(scene.scene, scene.tree,
+                               {.bvh_at_setup = true, .shadow_fallback = shadow_fallback});
     return make_tracer(kind, scene.scene, scene.tree);
 }
 
@@ -200,6 +208,8 @@ int main(int argc, char** argv) {
                 "  --aa=K             K x K samples per pixel (default 1)\n"
                 "  --region=R         pixels per region side, as rtt render --region (0 = "
                 "default)\n"
+                "  --shadow-fallback=measured|kd|bvh  how rtt traces the shadow regions it "
+                "declines\n"
                 "Google Benchmark flags (--benchmark_filter=..., --benchmark_repetitions=N) "
                 "apply.\n");
             return 0;
@@ -215,6 +225,13 @@ int main(int argc, char** argv) {
             ok = rtt::bench::parse_int(a + 5, aa);
         } else if (std::strncmp(a, "--region=", 9) == 0) {
             ok = rtt::bench::parse_int(a + 9, region);
+        } else if (std::strncmp(a, "--shadow-fallback=", 18) == 0) {
+            using rtt::ShadowFallback;
+            const std::string_view v = a + 18;
+            ok = v == "measured" || v == "kd" || v == "bvh";
+            rtt::bench::shadow_fallback = v == "kd"    ? ShadowFallback::kd_tree
+                                          : v == "bvh" ? ShadowFallback::bvh
+                                                       : ShadowFallback::measured;
         } else {
             args.push_back(argv[i]);
         }

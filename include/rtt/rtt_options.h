@@ -34,8 +34,8 @@ struct RttStats {
     /// Nanoseconds, summed over threads, spent tracing the rays not answered (declined tiles
     /// and refused rays); the rest of RTT's time went to answered tiles.
     uint64_t fallback_ns = 0;
-    /// Of the rays traced, those of tiles that are no shaft (reflections off curved mirrors,
-    /// their shadow segments) that went through the BVH rather than the kd-tree.
+    /// Of the rays traced, those that went through the BVH rather than the kd-tree: declined
+    /// regions, and tiles that are no shaft (reflections off curved mirrors, their shadows).
     uint64_t bvh_rays = 0;
 
     /// Every counter, for code that adds or ships them all (sums, MPI ranks).

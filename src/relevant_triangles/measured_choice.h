@@ -16,17 +16,17 @@ namespace rtt_detail {
 
 class MeasuredChoice {
 public:
-    /// Rays timed per way before the choice: about a third of a 1024x768 frame's declined
-    /// shadow segments, so that both ways see every part of the image (the first few dozen
-    /// tiles chose wrongly on office).
-    static constexpr uint64_t probe_rays = uint64_t(1) << 20;
+    /// Rays timed per way before the choice. Half of every fourth pair of tiles are each way's
+    /// probes, spread over the image (a choice from the first few dozen tiles, the image's top,
+    /// was wrong on office); the tiles between take the way that leads so far.
+    static constexpr uint64_t probe_rays = uint64_t(1) << 18;
 
-    /// The way (0 or 1) for the next tile: the two in turn, so that they share the image and
-    /// the host's load, until the choice is made.
+    /// The way (0 or 1) for the next tile.
     int pick() {
         const int chosen = chosen_.load(std::memory_order_relaxed);
         if (chosen >= 0) return chosen;
-        return int(turn_.fetch_add(1, std::memory_order_relaxed) & 1u);
+        const uint32_t turn = turn_.fetch_add(1, std::memory_order_relaxed);
+        return turn % 4 < 2 ? int(turn & 1u) : leader();
     }
 
     /// A tile of `rays` traced by `way` in `ns`. Once both ways have probe_rays, the one with
@@ -38,16 +38,24 @@ public:
         if (before >= probe_rays || before + rays < probe_rays) return;
         // This tile completed `way`'s probe; the second way to complete decides (a record
         // still under way may be left out).
-        if (ready_.fetch_add(1, std::memory_order_acq_rel) != 1) return;
-        const double per_ray[2] = {double(ns_[0].load()) / double(rays_[0].load()),
-                                   double(ns_[1].load()) / double(rays_[1].load())};
-        chosen_.store(per_ray[1] < per_ray[0] ? 1 : 0, std::memory_order_relaxed);
+        if (ready_.fetch_add(1, std::memory_order_acq_rel) == 1)
+            chosen_.store(leader(), std::memory_order_relaxed);
     }
 
     /// The way chosen, or -1 while both are still timed.
     int chosen() const { return chosen_.load(std::memory_order_relaxed); }
 
 private:
+    /// The way with fewer nanoseconds per ray so far; the first until both have been timed.
+    int leader() const {
+        const uint64_t r0 = rays_[0].load(std::memory_order_relaxed);
+        const uint64_t r1 = rays_[1].load(std::memory_order_relaxed);
+        if (r0 == 0 || r1 == 0) return 0;
+        const double per_ray0 = double(ns_[0].load(std::memory_order_relaxed)) / double(r0);
+        const double per_ray1 = double(ns_[1].load(std::memory_order_relaxed)) / double(r1);
+        return per_ray1 < per_ray0 ? 1 : 0;
+    }
+
     std::atomic<int> chosen_{-1};
     std::atomic<uint32_t> turn_{0}, ready_{0};
     std::atomic<uint64_t> ns_[2] = {0, 0}, rays_[2] = {0, 0};
