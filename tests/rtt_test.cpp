@@ -605,7 +605,7 @@ TEST(Rtt, ShadowsOnCurvedReceiversMatchReference) {
             EXPECT_EQ(tally.segment_mismatches, 0u);
             bvh_rays.push_back(tally.bvh_rays);
         }
-        EXPECT_EQ(bvh_rays[0], 0u);  // the BVH is built after 150 segments per triangle
+        EXPECT_EQ(bvh_rays[0], 0u);  // the BVH is built after 30 declined rays per triangle
         EXPECT_GT(bvh_rays[1], 0u);
         EXPECT_GT(bvh_rays[2], 0u);
         EXPECT_LT(bvh_rays[2], bvh_rays[1]);  // the kd-tree's turns

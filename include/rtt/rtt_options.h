@@ -122,9 +122,10 @@ struct RttOptions {
     /// tracer, for long renders and for benchmarks that time frames apart from builds. Loose rays
     /// off curved mirrors use the same BVH.
     bool bvh_at_setup = false;
-    /// Declined shadow regions take the BVH too once it is built or such segments have paid for
-    /// it (about 150 per triangle): faster where they leave dense meshes, slower where they end
-    /// in foliage (docs/benchmarks.md, "RTT's fallback"), so by default measured per tracer.
+    /// Declined shadow regions may take the BVH too once it is built (their segments count
+    /// towards its build with the camera's declined rays): faster where they leave dense
+    /// meshes, slower where they end in foliage (docs/benchmarks.md, "RTT's fallback"), so by
+    /// default timed per tracer.
     ShadowFallback shadow_fallback = ShadowFallback::measured;
 
     /// Throws rtt::Error for a value out of range.

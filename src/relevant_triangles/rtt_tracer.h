@@ -82,9 +82,6 @@ inline constexpr double loose_rays_per_triangle = 10.0;
 /// Rays of declined regions per triangle after which the BVH is built for them: its
 /// build over what it saves per such ray (docs/benchmarks.md, "RTT's fallback").
 inline constexpr double declined_rays_per_triangle = 30.0;
-/// The same for declined shadow segments, which the BVH saves less (about 3.5 ns each on the
-/// bumpy sphere against 0.5 us per triangle of build; docs/benchmarks.md, "RTT's fallback").
-inline constexpr double declined_segments_per_triangle = 150.0;
 // The budgets and the lean pass's extent are RttOptions (include/rtt/rtt_options.h); the
 // defaults there were measured in docs/benchmarks.md ("RTT: where it pays", "Regions", "RTT's
 // fallback"). Cost rules, not exactness ones.
@@ -270,7 +267,6 @@ private:
     mutable std::atomic<bool> bvh_built_{false};
     mutable std::atomic<uint64_t> loose_rays_{0};     ///< Spread rays of tiles that are no shaft.
     mutable std::atomic<uint64_t> declined_rays_{0};  ///< Rays of declined regions.
-    mutable std::atomic<uint64_t> declined_segments_{0};  ///< Of declined shadow regions.
     mutable MeasuredChoice shadow_fallback_;  ///< 0: kd-tree, 1: BVH (ShadowFallback::measured).
 };
 

@@ -77,7 +77,7 @@ void RttTracer::trace_declined(const SegmentTile& tile, std::span<uint8_t> visib
     int way = 0;  // the kd-tree
     bool timed = false;
     if (how != ShadowFallback::kd_tree &&
-        bvh_pays(declined_segments_, declined_segments_per_triangle, active)) {
+        bvh_pays(declined_rays_, declined_rays_per_triangle, active)) {
         bvh();  // built before any timing starts
         way = how == ShadowFallback::bvh ? 1 : shadow_fallback_.pick();
         timed = how == ShadowFallback::measured && shadow_fallback_.chosen() < 0;
