@@ -86,7 +86,8 @@ enum class RttRules : uint8_t {
 
 /// How RTT traces the shadow regions it declines once its BVH is built (RttOptions).
 enum class ShadowFallback : uint8_t {
-    /// Both ways in turn on the first declined regions, timed; then the faster per segment.
+    /// Both ways timed on probe regions spread over the first declined ones (the others take
+    /// the way leading so far); then the faster per segment.
     measured,
     /// The kd-tree's packets, behind the blocker cache.
     kd_tree,
