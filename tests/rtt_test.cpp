@@ -633,6 +633,18 @@ TEST(Rtt, MeasuredChoiceTakesTheFasterWay) {
         choice.record(1 - faster, 1, 1'000'000);  // a later record changes nothing
         EXPECT_EQ(choice.chosen(), faster);
     }
+    // A clear lead (twice as fast) decides once both ways have early_rays.
+    for (const int faster : {0, 1}) {
+        MeasuredChoice choice;
+        uint64_t tiles[2] = {};
+        while (choice.chosen() < 0) {
+            const int way = choice.pick();
+            ++tiles[way];
+            choice.record(way, way == faster ? 10'000 : 20'000, 1'000);
+        }
+        EXPECT_EQ(choice.chosen(), faster);
+        EXPECT_EQ(tiles[1 - faster], MeasuredChoice::early_rays / 1'000 + 1);
+    }
 }
 
 TEST(Rtt, ObjectsAgainstBackgroundMatchBruteForce) {
