@@ -614,16 +614,19 @@ TEST(Rtt, ShadowsOnCurvedReceiversMatchReference) {
 
 TEST(Rtt, MeasuredChoiceTakesTheFasterWay) {
     using rtt_detail::MeasuredChoice;
+    // Tiles of 1,000 rays, 10 ns a ray the faster way and `slow` the other, until the choice.
+    const auto choose = [](MeasuredChoice& choice, int faster, uint64_t slow, uint64_t* tiles) {
+        while (choice.chosen() < 0) {
+            const int way = choice.pick();
+            ++tiles[way];
+            choice.record(way, way == faster ? 10'000 : slow * 1'000, 1'000);
+        }
+    };
     for (const int faster : {0, 1}) {
         MeasuredChoice choice;
         EXPECT_EQ(choice.chosen(), -1);
         uint64_t tiles[2] = {};
-        // Tiles of 1,000 rays: 10 ns a ray one way, 12 the other, until both have their probe.
-        while (choice.chosen() < 0) {
-            const int way = choice.pick();
-            ++tiles[way];
-            choice.record(way, way == faster ? 10'000 : 12'000, 1'000);
-        }
+        choose(choice, faster, 12, tiles);  // a lead of a fifth: the full probe
         EXPECT_EQ(choice.chosen(), faster);
         // The slower way only on its probe tiles, the faster one between them too.
         const uint64_t probe_tiles = MeasuredChoice::probe_rays / 1'000 + 1;
@@ -637,11 +640,7 @@ TEST(Rtt, MeasuredChoiceTakesTheFasterWay) {
     for (const int faster : {0, 1}) {
         MeasuredChoice choice;
         uint64_t tiles[2] = {};
-        while (choice.chosen() < 0) {
-            const int way = choice.pick();
-            ++tiles[way];
-            choice.record(way, way == faster ? 10'000 : 20'000, 1'000);
-        }
+        choose(choice, faster, 20, tiles);
         EXPECT_EQ(choice.chosen(), faster);
         EXPECT_EQ(tiles[1 - faster], MeasuredChoice::early_rays / 1'000 + 1);
     }
