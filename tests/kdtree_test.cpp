@@ -252,20 +252,25 @@ bool hits_degenerate_off_itself(const Tris& tris, const Ray& r) {
 }
 
 /// Closest hit and any-hit of the reference tracer, and of both BVHs' (this ISA's width, with
-/// and without spatial splits, single rays and packets of consecutive rays), against brute
-/// force, ray by ray.
+/// and without spatial splits, single rays, arrays of rays and packets of consecutive rays),
+/// against brute force, ray by ray.
 Mismatches compare_with_brute_force(const KdTree& tree, const Tris& tris,
                                     const std::vector<Ray>& rays) {
     Mismatches m;
     const Bvh<bvh_width> bvhs[2] = {build_bvh<bvh_width>(tris),
                                     build_bvh<bvh_width>(tris, bvh_high_quality)};
-    std::vector<Hit> packet_hits[2];
-    std::vector<uint8_t> packet_visible[2];
+    std::vector<Hit> packet_hits[2], array_hits[2];
+    std::vector<uint8_t> packet_visible[2], array_visible[2];
     for (int b = 0; b < 2; ++b) {
         packet_hits[b].resize(rays.size());
         packet_visible[b].resize(rays.size());
         trace_bvh_packets(bvhs[b], rays, packet_hits[b]);
         visible_bvh_packets(bvhs[b], rays, packet_visible[b]);
+        // The array loops make the rays' setups many at a time (trace_bvh.cpp, RaySetups).
+        array_hits[b].resize(rays.size());
+        array_visible[b].resize(rays.size());
+        trace_bvh_rays(bvhs[b], rays, array_hits[b]);
+        visible_bvh_rays(bvhs[b], rays, array_visible[b]);
     }
     for (size_t i = 0; i < rays.size(); ++i) {
         const Ray& r = rays[i];
@@ -279,9 +284,9 @@ Mismatches compare_with_brute_force(const KdTree& tree, const Tris& tris,
         for (int b = 0; b < 2; ++b) {
             // Both BVHs and their packets answer as the first's single rays, bit for bit.
             closest_differs = closest_differs || !(trace_bvh(bvhs[b], r) == got_bvh) ||
-                              !(packet_hits[b][i] == got_bvh);
+                              !(packet_hits[b][i] == got_bvh) || !(array_hits[b][i] == got_bvh);
             occluded_differs = occluded_differs || occluded_bvh(bvhs[b], r) != blocked ||
-                               packet_visible[b][i] != !blocked;
+                               packet_visible[b][i] != !blocked || array_visible[b][i] != !blocked;
         }
         if ((closest_differs || occluded_differs) && hits_degenerate_off_itself(tris, r)) {
             ++m.excluded;

@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <type_traits>
 
+#include "geom/triangle_simd.h"
 #include "simd/simd.h"
 #include "trace/kernels.h"
 #include "trace/trace_ray.h"
@@ -21,6 +22,77 @@
 namespace rtt {
 inline namespace RTT_ISA_NS {
 namespace {
+
+/// The scalars BoxRay and WatertightRay derive from each of K rays, made in K lanes at once
+/// with the same IEEE operations, so bit for bit the single ray's: for loops over arrays of
+/// rays, where the setup was 8 % of the kernel's time made ray by ray (docs/benchmarks.md,
+/// "Arbitrary rays").
+template <int K>
+struct RaySetups {
+    using vf = vfloat<K>;
+    alignas(64) float inv[3][K], org_inv[3][K], t_margin[K], sx[K], sy[K], sz[K];
+    alignas(64) int32_t kx[K], ky[K], kz[K];
+    uint32_t negative[3], flat[3], free[3];  ///< Lane bits per axis (as BoxRay's).
+
+    /// rays[0, n), 1 <= n <= K; the lanes beyond n repeat ray 0.
+    RaySetups(const Ray* rays, int n, const Bbox3f& bounds) {
+        static_assert(sizeof(Ray) == 8 * sizeof(float) && std::is_standard_layout_v<Ray>);
+        vf f[8];
+        if (n == K) {
+            load_records8(reinterpret_cast<const float*>(rays), f);
+        } else {
+            alignas(64) Ray padded[K];
+            for (int i = 0; i < K; ++i) padded[i] = rays[i < n ? i : 0];
+            load_records8(reinterpret_cast<const float*>(padded), f);
+        }
+        const Vec3v<K> o{f[0], f[1], f[2]}, d{f[3], f[4], f[5]};
+        const vf lo[3] = {vf(bounds.lo.x), vf(bounds.lo.y), vf(bounds.lo.z)};
+        const vf hi[3] = {vf(bounds.hi.x), vf(bounds.hi.y), vf(bounds.hi.z)};
+        const vf flt_max(FLT_MAX);
+        // std::min(x, FLT_MAX) lane by lane, NaN kept as std::min keeps it.
+        const auto min_flt_max = [&](vf x) { return select(flt_max < x, flt_max, x); };
+        vf dist[3], dir_abs[3], off[3];
+        for (int a = 0; a < 3; ++a) {
+            const vf i = vf(1.f) / f[3 + a], oi = f[a] * i;
+            const vbool<K> zero = f[3 + a] == vf(0.f), huge = !(abs(i) <= vf(0x1p40f));
+            store(inv[a], i);
+            store(org_inv[a], oi);
+            negative[a] = movemask(f[3 + a] < vf(0.f));
+            flat[a] = movemask(zero);
+            free[a] = movemask(andnot(huge, zero));
+            dist[a] = max(abs(lo[a] - f[a]), abs(hi[a] - f[a]));
+            dir_abs[a] = abs(f[3 + a]);
+            off[a] = select(zero | huge, vf(0.f), abs(oi));
+        }
+        // BoxRay's reductions over the axes: maxima, exact in any order.
+        const vf scale = min_flt_max(max(max(dist[0], dist[1]), dist[2]) /
+                                     max(max(dir_abs[0], dir_abs[1]), dir_abs[2]));
+        const vf org_t = max(max(off[0], off[1]), off[2]);
+        store(t_margin, vf(2.f * kd_margin) * min_flt_max(scale + org_t * vf(0x1p-6f)));
+        const WatertightPacket<K> w(o, d, f[6], f[7], vbool<K>(true));
+        store(sx, w.sx);
+        store(sy, w.sy);
+        store(sz, w.sz);
+        store(kx, w.kx);
+        store(ky, w.ky);
+        store(kz, w.kz);
+    }
+
+    /// WatertightRay(rays[l]), bit for bit.
+    WatertightRay watertight(int l, const Ray& ray) const {
+        WatertightRay r;
+        r.org = ray.org;
+        r.kx = kx[l];
+        r.ky = ky[l];
+        r.kz = kz[l];
+        r.sx = sx[l];
+        r.sy = sy[l];
+        r.sz = sz[l];
+        r.tmin = ray.tmin;
+        r.tmax = ray.tmax;
+        return r;
+    }
+};
 
 /// What the node test needs of a ray, broadcast to W lanes.
 template <int W>
@@ -64,6 +136,31 @@ struct BoxRay {
         if (!plain) [[unlikely]] {
             for (int a = 0; a < 3; ++a) {
                 org[a] = vf(o[a]);
+                flat[a] = (flat_bits >> a) & 1u;
+                free[a] = (free_bits >> a) & 1u;
+            }
+        }
+    }
+
+    /// The same for lane `l` of a batch made by RaySetups (its values bit for bit).
+    template <int K>
+    BoxRay(const RaySetups<K>& s, int l, const Ray& ray) {
+        for (int a = 0; a < 3; ++a) {
+            inv[a] = vf(s.inv[a][l]);
+            org_inv[a] = vf(s.org_inv[a][l]);
+        }
+        t_margin = vf(s.t_margin[l]);
+        const auto axes = [l](const uint32_t(&lanes)[3]) {
+            return ((lanes[0] >> l) & 1u) | ((lanes[1] >> l) & 1u) << 1 |
+                   ((lanes[2] >> l) & 1u) << 2;
+        };
+        const uint32_t flat_bits = axes(s.flat), free_bits = axes(s.free);
+        plain = (flat_bits | free_bits) == 0;
+        nonneg_tmin = ray.tmin >= 0.f;
+        box_faces<W>(axes(s.negative), enter, leave);
+        if (!plain) [[unlikely]] {
+            for (int a = 0; a < 3; ++a) {
+                org[a] = vf(ray.org[a]);
                 flat[a] = (flat_bits >> a) & 1u;
                 free[a] = (free_bits >> a) & 1u;
             }
@@ -192,13 +289,14 @@ RTT_FORCEINLINE int push_in_slot_order(const BvhNode<W>& node, uint32_t mask, ui
     return n;
 }
 
-template <int W, bool AnyHit>
-Hit traverse(const Bvh<W>& bvh, const Ray& ray) {
+/// The closest (or any) hit of `ray`, its setups made by `setup.watertight()` and
+/// `setup.box()`: in this frame, so that the box test's constants stay in registers.
+template <int W, bool AnyHit, typename Setup>
+Hit traverse(const Bvh<W>& bvh, const Ray& ray, const Setup& setup) {
     Hit best;
-    if (bvh.nodes.empty()) return best;
-    WatertightRay wr(ray);
+    WatertightRay wr = setup.watertight();
     const WatertightRay4 wr4(wr);
-    const BoxRay<W> br(ray, bvh.padded_bounds);
+    const BoxRay<W> br = setup.box();
     // Each node pushes at most W - 1 children: W - 1 per level, bvh_max_depth levels. Any-hit
     // rays need no distances.
     std::conditional_t<AnyHit, uint32_t, StackEntry> stack[(W - 1) * bvh_max_depth + W];
@@ -285,6 +383,42 @@ Hit traverse(const Bvh<W>& bvh, const Ray& ray) {
     }
 }
 
+template <int W, bool AnyHit>
+Hit traverse(const Bvh<W>& bvh, const Ray& ray) {
+    if (bvh.nodes.empty()) return {};
+    struct {
+        const Ray& ray;
+        const Bbox3f& bounds;
+        WatertightRay watertight() const { return WatertightRay(ray); }
+        BoxRay<W> box() const { return BoxRay<W>(ray, bounds); }
+    } const setup{ray, bvh.padded_bounds};
+    return traverse<W, AnyHit>(bvh, ray, setup);
+}
+
+/// answer(i, hit) for every rays[i], the setups made simd_max_width rays at a time.
+template <int W, bool AnyHit, typename Answer>
+void traverse_rays(const Bvh<W>& bvh, std::span<const Ray> rays, const Answer& answer) {
+    constexpr int K = simd_max_width;
+    if (bvh.nodes.empty()) {
+        for (size_t i = 0; i < rays.size(); ++i) answer(i, Hit{});
+        return;
+    }
+    for (size_t first = 0; first < rays.size(); first += K) {
+        const int n = int(std::min<size_t>(K, rays.size() - first));
+        const RaySetups<K> setups(rays.data() + first, n, bvh.padded_bounds);
+        for (int l = 0; l < n; ++l) {
+            struct {
+                const RaySetups<K>& setups;
+                int l;
+                const Ray& ray;
+                WatertightRay watertight() const { return setups.watertight(l, ray); }
+                BoxRay<W> box() const { return BoxRay<W>(setups, l, ray); }
+            } const setup{setups, l, rays[first + size_t(l)]};
+            answer(first + size_t(l), traverse<W, AnyHit>(bvh, setup.ray, setup));
+        }
+    }
+}
+
 template <int W>
 class BvhTracer final : public Tracer {
 public:
@@ -337,12 +471,12 @@ bool occluded_bvh(const Bvh<W>& bvh, const Ray& ray) {
 
 template <int W>
 void trace_bvh_rays(const Bvh<W>& bvh, std::span<const Ray> rays, std::span<Hit> hits) {
-    for (size_t i = 0; i < rays.size(); ++i) hits[i] = traverse<W, false>(bvh, rays[i]);
+    traverse_rays<W, false>(bvh, rays, [&](size_t i, const Hit& hit) { hits[i] = hit; });
 }
 
 template <int W>
 void visible_bvh_rays(const Bvh<W>& bvh, std::span<const Ray> rays, std::span<uint8_t> visible) {
-    for (size_t i = 0; i < rays.size(); ++i) visible[i] = !traverse<W, true>(bvh, rays[i]).valid();
+    traverse_rays<W, true>(bvh, rays, [&](size_t i, const Hit& hit) { visible[i] = !hit.valid(); });
 }
 
 #define RTT_INSTANTIATE_BVH(W)                                                            \
