@@ -37,6 +37,10 @@ int bins_for(uint32_t n) {
 // A block of four triangles costs about two node tests (docs/benchmarks.md, "Arbitrary rays").
 constexpr float traversal_cost = 1.f, intersection_cost = 2.f;
 constexpr int sah_depth = 64;
+/// Ranges of at most one block are leaves without a decision: splitting them rarely paid, and
+/// deciding them was an eighth of the build (docs/benchmarks.md, "Arbitrary rays"; two blocks
+/// cost random rays 4-7 %).
+constexpr uint32_t always_leaf = 4;
 /// The overlap of an object split's children, as a part of the scene's surface, beyond which
 /// spatial splits are tried: Stich et al. take 1e-5; 3e-3 gives nearly the same SAH cost in
 /// under half the build time (docs/benchmarks.md, "Arbitrary rays").
@@ -296,7 +300,7 @@ private:
     /// Decides r's split: binned SAH over its centroids (16 bins, fewer in small nodes).
     void decide(Range& r) const {
         const uint32_t n = r.size();
-        if (n <= 2) {
+        if (n <= always_leaf) {
             r.leaf = true;
             return;
         }
