@@ -1,6 +1,7 @@
 // The library's entry points for code that is not the renderer: scenes from arrays, arbitrary
 // ray batches (intersect_rays, visible_rays) on every tracer kind, and their errors.
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -213,6 +214,15 @@ TEST(LibraryApi, CoherentOrderGroupsByOctantThenOrigin) {
     const auto order = coherent_order(rays);
     ASSERT_EQ(order.size(), rays.size());
     EXPECT_TRUE(is_permutation(order));
+    {  // A batch the sort splits into parts (one per thread): the same order in four as in one.
+        std::vector<Ray> many(4 * 65536 + 7);
+        for (Ray& r : many) r = Ray{{u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}};
+        large_vector<uint32_t> four, one;
+        tbb::task_arena(4).execute([&] { four = coherent_order(many); });
+        tbb::task_arena(1).execute([&] { one = coherent_order(many); });
+        EXPECT_TRUE(is_permutation(four));
+        EXPECT_TRUE(four == one);
+    }
     // Rays that already come in their origins' order are traced as they come: all from one
     // point (a camera's), or sorted along x.
     std::vector<Ray> camera = rays, along_x = rays;

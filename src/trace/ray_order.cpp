@@ -4,6 +4,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <bit>
@@ -89,11 +90,32 @@ large_vector<uint32_t> coherent_order(std::span<const Ray> rays) {
                 keys[i] = octant * cells + morton_of(ray.org);
             }
         });
-    // A counting sort: the buckets' first positions, then each ray to its bucket's next.
-    large_vector<uint32_t> next(size_t(8) * cells + 1, 0);
-    for (const uint32_t k : keys) ++next[k + 1];
-    for (size_t b = 1; b < next.size(); ++b) next[b] += next[b - 1];
-    for (size_t i = 0; i < n; ++i) order[next[keys[i]]++] = uint32_t(i);
+    // A stable counting sort over consecutive parts of the batch, one per thread: each part's
+    // counts, then each bucket's first slot per part (buckets in key order, parts in batch
+    // order), then each part's rays to its slots. Stable, so the order is the same for any
+    // number of parts.
+    const size_t buckets = size_t(8) * cells;
+    const size_t parts = std::clamp<size_t>(size_t(tbb::this_task_arena::max_concurrency()), 1,
+                                            std::max<size_t>(1, n / 65536));
+    const auto part_begin = [&](size_t p) { return p * n / parts; };
+    large_vector<uint32_t> next(parts * buckets, 0);
+    tbb::parallel_for(size_t(0), parts, [&](size_t p) {
+        uint32_t* count = next.data() + p * buckets;
+        for (size_t i = part_begin(p); i < part_begin(p + 1); ++i) ++count[keys[i]];
+    });
+    uint32_t at = 0;
+    for (size_t b = 0; b < buckets; ++b)
+        for (size_t p = 0; p < parts; ++p) {
+            uint32_t& slot = next[p * buckets + b];
+            const uint32_t count = slot;
+            slot = at;
+            at += count;
+        }
+    tbb::parallel_for(size_t(0), parts, [&](size_t p) {
+        uint32_t* slot = next.data() + p * buckets;
+        for (size_t i = part_begin(p); i < part_begin(p + 1); ++i)
+            order[slot[keys[i]]++] = uint32_t(i);
+    });
     order.resize(n);
     return order;
 }

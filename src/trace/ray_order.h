@@ -20,7 +20,7 @@ inline constexpr size_t reorder_min_rays = 16384;
 /// a Morton curve over the origins' bounds (about four rays per cell and octant); rays of one
 /// cell and octant keep the caller's order. Empty (trace them as they come) when
 /// rays.size() < reorder_min_rays (or beyond 32-bit positions) or when most neighbours in the array
-/// already start in one cell. The rays' origins must be finite.
+/// already start in one cell. The rays' origins must be finite. The same for any number of threads.
 large_vector<uint32_t> coherent_order(std::span<const Ray> rays);
 
 }  // namespace rtt
