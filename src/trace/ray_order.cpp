@@ -93,10 +93,10 @@ large_vector<uint32_t> coherent_order(std::span<const Ray> rays) {
     // A stable counting sort over consecutive parts of the batch, one per thread: each part's
     // counts, then each bucket's first slot per part (buckets in key order, parts in batch
     // order), then each part's rays to its slots. Stable, so the order is the same for any
-    // number of parts.
+    // number of parts. At least 65,536 rays a part, and no more counters than rays.
     const size_t buckets = size_t(8) * cells;
     const size_t parts = std::clamp<size_t>(size_t(tbb::this_task_arena::max_concurrency()), 1,
-                                            std::max<size_t>(1, n / 65536));
+                                            std::max<size_t>(1, std::min(n / 65536, n / buckets)));
     const auto part_begin = [&](size_t p) { return p * n / parts; };
     large_vector<uint32_t> next(parts * buckets, 0);
     tbb::parallel_for(size_t(0), parts, [&](size_t p) {
