@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <array>
 #include <bit>
-#include <cfloat>
 #include <cmath>
 #include <cstddef>
 #include <type_traits>
@@ -23,16 +22,16 @@ namespace rtt {
 inline namespace RTT_ISA_NS {
 namespace {
 
-/// The scalars BoxRay and WatertightRay derive from each of K rays, made in K lanes at once
-/// with the same IEEE operations, so bit for bit the single ray's: for loops over arrays of
-/// rays, where the setup was 8 % of the kernel's time made ray by ray (docs/benchmarks.md,
-/// "Arbitrary rays").
+/// The scalars BoxRay and WatertightRay take from each of K rays, made in K lanes at once
+/// (BoxLanes, WatertightPacket: each lane bit for bit WatertightRay's). Arrays of rays make
+/// them a vector at a time, where ray by ray the setup was 8 % of the kernel's time
+/// (docs/benchmarks.md, "Arbitrary rays").
 template <int K>
 struct RaySetups {
     using vf = vfloat<K>;
     alignas(64) float inv[3][K], org_inv[3][K], t_margin[K], sx[K], sy[K], sz[K];
     alignas(64) int32_t kx[K], ky[K], kz[K];
-    uint32_t negative[3], flat[3], free[3];  ///< Lane bits per axis (as BoxRay's).
+    uint32_t negative[3], flat[3], free[3];  ///< Lane bits per axis.
 
     /// rays[0, n), 1 <= n <= K; the lanes beyond n repeat ray 0.
     RaySetups(const Ray* rays, int n, const Bbox3f& bounds) {
@@ -46,29 +45,15 @@ struct RaySetups {
             load_records8(reinterpret_cast<const float*>(padded), f);
         }
         const Vec3v<K> o{f[0], f[1], f[2]}, d{f[3], f[4], f[5]};
-        const vf lo[3] = {vf(bounds.lo.x), vf(bounds.lo.y), vf(bounds.lo.z)};
-        const vf hi[3] = {vf(bounds.hi.x), vf(bounds.hi.y), vf(bounds.hi.z)};
-        const vf flt_max(FLT_MAX);
-        // std::min(x, FLT_MAX) lane by lane, NaN kept as std::min keeps it.
-        const auto min_flt_max = [&](vf x) { return select(flt_max < x, flt_max, x); };
-        vf dist[3], dir_abs[3], off[3];
+        const BoxLanes<K> box(o, d, bounds);
         for (int a = 0; a < 3; ++a) {
-            const vf i = vf(1.f) / f[3 + a], oi = f[a] * i;
-            const vbool<K> zero = f[3 + a] == vf(0.f), huge = !(abs(i) <= vf(0x1p40f));
-            store(inv[a], i);
-            store(org_inv[a], oi);
-            negative[a] = movemask(f[3 + a] < vf(0.f));
-            flat[a] = movemask(zero);
-            free[a] = movemask(andnot(huge, zero));
-            dist[a] = max(abs(lo[a] - f[a]), abs(hi[a] - f[a]));
-            dir_abs[a] = abs(f[3 + a]);
-            off[a] = select(zero | huge, vf(0.f), abs(oi));
+            store(inv[a], box.inv[a]);
+            store(org_inv[a], box.org_inv[a]);
+            negative[a] = box.negative[a];
+            flat[a] = box.flat[a];
+            free[a] = box.free[a];
         }
-        // BoxRay's reductions over the axes: maxima, exact in any order.
-        const vf scale = min_flt_max(max(max(dist[0], dist[1]), dist[2]) /
-                                     max(max(dir_abs[0], dir_abs[1]), dir_abs[2]));
-        const vf org_t = max(max(off[0], off[1]), off[2]);
-        store(t_margin, vf(2.f * kd_margin) * min_flt_max(scale + org_t * vf(0x1p-6f)));
+        store(t_margin, box.t_margin);
         const WatertightPacket<K> w(o, d, f[6], f[7], vbool<K>(true));
         store(sx, w.sx);
         store(sy, w.sy);
@@ -99,50 +84,18 @@ template <int W>
 struct BoxRay {
     using vf = vfloat<W>;
     vf inv[3], org_inv[3];
-    vf org[3];  ///< Only for rays that are not plain (below).
-    /// The widening of a box's interval beyond its |t| part: 2 kd_margin times the scene's t
-    /// scale, grown to cover the rounding of face * inv - org * inv (docs/design.md, "The BVH
-    /// for arbitrary rays").
-    vf t_margin;
+    vf org[3];    ///< Only for rays that are not plain (below).
+    vf t_margin;  ///< BoxLanes::t_margin.
     /// Byte offsets in a node of the faces a ray enters and leaves by on each axis (hi when
     /// dir < 0): fixed per ray, so a node's test picks no faces.
     uint32_t enter[3], leave[3];
-    // Set only when the ray is not plain (an axis flat or free), for the test's slow path:
-    bool flat[3];  ///< dir[a] == 0: a face distance is NaN when the ray lies in the face's plane.
-    bool free[3];  ///< |1 / dir[a]| beyond 2^40: the axis is left unbounded (never culls).
-    bool plain;    ///< No axis flat or free.
+    // Set only when the ray is not plain, for the test's slow path (BoxLanes' axes):
+    bool flat[3];      ///< dir[a] == 0: inside the closed slab when the ray lies in a face's plane.
+    bool free[3];      ///< |1 / dir[a]| beyond 2^40: the axis never culls.
+    bool plain;        ///< No axis flat or free.
     bool nonneg_tmin;  ///< tmin >= 0 (widen_interval).
 
-    BoxRay(const Ray& ray, const Bbox3f& bounds) {
-        // The three axes at once in lanes 0-2 (lane 3 a copy of z): one division, no branches.
-        const auto xyz = [](const Vec3f& v) { return vfloat4::setr(v.x, v.y, v.z, v.z); };
-        const vfloat4 o = xyz(ray.org), d = xyz(ray.dir), i = vfloat4(1.f) / d, oi = o * i;
-        const vbool4 zero = d == vfloat4(0.f), huge = !(abs(i) <= vfloat4(0x1p40f));
-        // The t scale of trace_ray.h's scene_t_scale, and the largest |org * inv| of the axes
-        // the fast test uses.
-        const vfloat4 dist = max(abs(xyz(bounds.lo) - o), abs(xyz(bounds.hi) - o));
-        const float scale = std::min(reduce_max(dist)[0] / reduce_max(abs(d))[0], FLT_MAX);
-        const float org_t = reduce_max(select(zero | huge, vfloat4(0.f), abs(oi)))[0];
-        t_margin = vf(2.f * kd_margin * std::min(scale + org_t * 0x1p-6f, FLT_MAX));
-        const uint32_t flat_bits = movemask(zero), free_bits = movemask(andnot(huge, zero));
-        const uint32_t negative = movemask(d < vfloat4(0.f));
-        plain = ((flat_bits | free_bits) & 7u) == 0;
-        nonneg_tmin = ray.tmin >= 0.f;
-        for (int a = 0; a < 3; ++a) {
-            inv[a] = vf(i[a]);
-            org_inv[a] = vf(oi[a]);
-        }
-        box_faces<W>(negative, enter, leave);
-        if (!plain) [[unlikely]] {
-            for (int a = 0; a < 3; ++a) {
-                org[a] = vf(o[a]);
-                flat[a] = (flat_bits >> a) & 1u;
-                free[a] = (free_bits >> a) & 1u;
-            }
-        }
-    }
-
-    /// The same for lane `l` of a batch made by RaySetups (its values bit for bit).
+    /// Lane `l` of a batch made by RaySetups.
     template <int K>
     BoxRay(const RaySetups<K>& s, int l, const Ray& ray) {
         for (int a = 0; a < 3; ++a) {
@@ -289,14 +242,15 @@ RTT_FORCEINLINE int push_in_slot_order(const BvhNode<W>& node, uint32_t mask, ui
     return n;
 }
 
-/// The closest (or any) hit of `ray`, its setups made by `setup.watertight()` and
-/// `setup.box()`: in this frame, so that the box test's constants stay in registers.
-template <int W, bool AnyHit, typename Setup>
-Hit traverse(const Bvh<W>& bvh, const Ray& ray, const Setup& setup) {
+/// The closest (or any) hit of `ray`, lane `l` of `setups`. The box test's constants are made
+/// in this frame, so that they stay in registers (a BoxRay passed in was 3-6 % slower), and
+/// the function is inlined in both its callers (2 % on closest hits).
+template <int W, bool AnyHit, int K>
+RTT_FORCEINLINE Hit traverse(const Bvh<W>& bvh, const Ray& ray, const RaySetups<K>& setups, int l) {
     Hit best;
-    WatertightRay wr = setup.watertight();
+    WatertightRay wr = setups.watertight(l, ray);
     const WatertightRay4 wr4(wr);
-    const BoxRay<W> br = setup.box();
+    const BoxRay<W> br(setups, l, ray);
     // Each node pushes at most W - 1 children: W - 1 per level, bvh_max_depth levels. Any-hit
     // rays need no distances.
     std::conditional_t<AnyHit, uint32_t, StackEntry> stack[(W - 1) * bvh_max_depth + W];
@@ -386,16 +340,10 @@ Hit traverse(const Bvh<W>& bvh, const Ray& ray, const Setup& setup) {
 template <int W, bool AnyHit>
 Hit traverse(const Bvh<W>& bvh, const Ray& ray) {
     if (bvh.nodes.empty()) return {};
-    struct {
-        const Ray& ray;
-        const Bbox3f& bounds;
-        WatertightRay watertight() const { return WatertightRay(ray); }
-        BoxRay<W> box() const { return BoxRay<W>(ray, bounds); }
-    } const setup{ray, bvh.padded_bounds};
-    return traverse<W, AnyHit>(bvh, ray, setup);
+    return traverse<W, AnyHit>(bvh, ray, RaySetups<simd_max_width>(&ray, 1, bvh.padded_bounds), 0);
 }
 
-/// answer(i, hit) for every rays[i], the setups made simd_max_width rays at a time.
+/// answer(i, hit) for every rays[i], the setups made a vector of rays at a time.
 template <int W, bool AnyHit, typename Answer>
 void traverse_rays(const Bvh<W>& bvh, std::span<const Ray> rays, const Answer& answer) {
     constexpr int K = simd_max_width;
@@ -406,16 +354,8 @@ void traverse_rays(const Bvh<W>& bvh, std::span<const Ray> rays, const Answer& a
     for (size_t first = 0; first < rays.size(); first += K) {
         const int n = int(std::min<size_t>(K, rays.size() - first));
         const RaySetups<K> setups(rays.data() + first, n, bvh.padded_bounds);
-        for (int l = 0; l < n; ++l) {
-            struct {
-                const RaySetups<K>& setups;
-                int l;
-                const Ray& ray;
-                WatertightRay watertight() const { return setups.watertight(l, ray); }
-                BoxRay<W> box() const { return BoxRay<W>(setups, l, ray); }
-            } const setup{setups, l, rays[first + size_t(l)]};
-            answer(first + size_t(l), traverse<W, AnyHit>(bvh, setup.ray, setup));
-        }
+        for (int l = 0; l < n; ++l)
+            answer(first + size_t(l), traverse<W, AnyHit>(bvh, rays[first + size_t(l)], setups, l));
     }
 }
 

@@ -2,6 +2,7 @@
 // and callers holding a Bvh.
 #pragma once
 
+#include <cfloat>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -10,7 +11,9 @@
 #include "rtt/tracer.h"
 #include "simd/isa.h"
 #include "simd/simd.h"
+#include "simd/vec3v.h"
 #include "trace/blocker_cache.h"
+#include "trace/trace_ray.h"
 
 namespace rtt {
 inline namespace RTT_ISA_NS {
@@ -31,6 +34,45 @@ RTT_FORCEINLINE void box_faces(uint32_t negative, uint32_t (&enter)[3], uint32_t
         leave[a] = down ? lo : hi;
     }
 }
+
+/// The node tests' constants of K rays, lane by lane (docs/design.md, "The BVH for arbitrary
+/// rays"): the inverse directions, the origins times them, and `t_margin`, the widening of a
+/// box's interval beyond its |t| part: 2 kd_margin times the scene's t scale (trace_ray.h's
+/// scene_t_scale), grown to cover the rounding of face * inv - org * inv. An axis whose
+/// direction is 0 (`flat`: a face distance is NaN when the ray lies in the face's plane) or
+/// whose inverse exceeds 2^40 (`free`: left unbounded) adds nothing to the origin term; the
+/// tests treat such axes apart.
+template <int K>
+struct BoxLanes {
+    using vf = vfloat<K>;
+    vf inv[3], org_inv[3], t_margin;
+    uint32_t negative[3], flat[3], free[3];  ///< Lane bits per axis.
+
+    RTT_FORCEINLINE BoxLanes(const Vec3v<K>& org, const Vec3v<K>& dir, const Bbox3f& bounds) {
+        const vf* o[3] = {&org.x, &org.y, &org.z};
+        const vf* d[3] = {&dir.x, &dir.y, &dir.z};
+        const vf flt_max(FLT_MAX);
+        // std::min(x, FLT_MAX) lane by lane (a NaN stays).
+        const auto min_flt_max = [&](vf x) { return select(flt_max < x, flt_max, x); };
+        vf dist(0.f), dir_max(0.f), org_t(0.f);  // maxima: exact in any order
+        for (int a = 0; a < 3; ++a) {
+            inv[a] = vf(1.f) / *d[a];
+            org_inv[a] = *o[a] * inv[a];
+            const vbool<K> zero = *d[a] == vf(0.f), huge = !(abs(inv[a]) <= vf(0x1p40f));
+            negative[a] = movemask(*d[a] < vf(0.f));
+            flat[a] = movemask(zero);
+            free[a] = movemask(andnot(huge, zero));
+            dist = max(dist, max(abs(vf(bounds.lo[a]) - *o[a]), abs(vf(bounds.hi[a]) - *o[a])));
+            dir_max = max(dir_max, abs(*d[a]));
+            org_t = max(org_t, select(zero | huge, vf(0.f), abs(org_inv[a])));
+        }
+        const vf scale = min_flt_max(dist / dir_max);
+        t_margin = vf(2.f * kd_margin) * min_flt_max(scale + org_t * vf(0x1p-6f));
+    }
+
+    /// Lanes with an axis that is flat or free.
+    uint32_t odd() const { return flat[0] | flat[1] | flat[2] | free[0] | free[1] | free[2]; }
+};
 
 /// A box's slab interval [enter, leave] widened by `relative` * |t| + `t_margin` on each side
 /// (docs/design.md, "The BVH for arbitrary rays"): the nodes' tests, single ray and packet.

@@ -56,6 +56,8 @@ struct PacketRays {
         dir = {vf::load(packet.dir[0]), vf::load(packet.dir[1]), vf::load(packet.dir[2])};
         tmin = vf::load(packet.tmin);
         tmax = vf::load(packet.tmax);
+        // BoxLanes' constants (trace_bvh.h), written out here: made through BoxLanes the
+        // shadow packets ran 4 % slower (`bench_trace` office `Shadow/bvh`, 2026-12-07).
         const vf* dv[3] = {&dir.x, &dir.y, &dir.z};
         const vf* ov[3] = {&org.x, &org.y, &org.z};
         vb odd(false);
