@@ -15,6 +15,7 @@
 #include "rtt/kdtree.h"
 #include "rtt/rtt_options.h"
 #include "rtt/tracer.h"
+#include "trace/ray_batches.h"
 #include "trace/ray_order.h"
 #include "triangle_soup.h"
 
@@ -188,6 +189,34 @@ TEST(LibraryApi, ReorderedBatchesGiveEachRayItsOwnAnswer) {
         EXPECT_EQ(closest_mismatches, 0u) << kind;
         EXPECT_EQ(visible_mismatches, 0u) << kind;
         EXPECT_EQ(stats.rays, rays.size()) << kind;
+    }
+}
+
+// An any-hit batch is ordered or not after a probe that has already answered some of its
+// chunks (ray_batches.h): either way every ray gets its own answer, counted once.
+TEST(LibraryApi, ProbedAnyHitBatchesGiveEachRayItsOwnAnswer) {
+    const Scene scene = test_scene();
+    const KdTree tree = build_kdtree(scene);
+    // Not a multiple of the chunk, so the last chunk is short.
+    const std::vector<Ray> rays = random_rays(scene.bounds(), 4 * reorder_min_rays + 517, 31);
+    const auto reference = make_tracer("ray", scene, tree);
+    std::vector<uint8_t> expected(rays.size());
+    for (size_t i = 0; i < rays.size(); ++i) {
+        Hit hit;
+        reference->intersect_arbitrary(std::span(&rays[i], 1), std::span(&hit, 1));
+        expected[i] = !hit.valid();
+    }
+    for (const char* kind : {"bvh", "rtt"}) {
+        const auto tracer = make_tracer(kind, scene, tree);
+        for (const double order_above : {0.0, double(INFINITY)}) {
+            std::vector<uint8_t> visible(rays.size(), 2);
+            TraceStats stats;
+            visible_rays_probed(*tracer, rays, visible, &stats, order_above);
+            size_t mismatches = 0;
+            for (size_t i = 0; i < rays.size(); ++i) mismatches += visible[i] != expected[i];
+            EXPECT_EQ(mismatches, 0u) << kind << " " << order_above;
+            EXPECT_EQ(stats.rays, rays.size()) << kind << " " << order_above;
+        }
     }
 }
 

@@ -142,7 +142,10 @@ void intersect_rays(const Tracer& tracer, std::span<const Ray> rays, std::span<H
 
 /// Visibility along arbitrary rays: visible[i] = 1 when no triangle meets rays[i] for t in
 /// [tmin, tmax], else 0, through Tracer::visible_arbitrary (an any-hit traversal where the
-/// tracer has one). The same rays, threads and errors as intersect_rays. For a shadow segment from
+/// tracer has one). The same rays, threads and errors as intersect_rays, but a large batch goes
+/// in the grouped order only when a few of its chunks, timed, show its rays waiting on memory:
+/// any-hit rays end early, and on most scenes gathering them cost more than it saved (the answers
+/// are the same either way; docs/benchmarks.md, "Arbitrary rays"). For a shadow segment from
 /// a light L to a point p, pass shadow_ray(L, p): the answers then equal Tracer::occluded's.
 void visible_rays(const Tracer& tracer, std::span<const Ray> rays, std::span<uint8_t> visible,
                   TraceStats* stats = nullptr);
