@@ -90,6 +90,21 @@ struct alignas(sizeof(vfloat<K>)) WatertightPacket {
             porg = {axis(ukx), axis(uky), axis(ukz)};
         }
     }
+
+    /// Lane l's constants as one WatertightRay, bit for bit.
+    WatertightRay lane(int l) const {
+        WatertightRay r;
+        r.org = {org.x[l], org.y[l], org.z[l]};
+        r.kx = kx[l];
+        r.ky = ky[l];
+        r.kz = kz[l];
+        r.sx = sx[l];
+        r.sy = sy[l];
+        r.sz = sz[l];
+        r.tmin = tmin[l];
+        r.tmax = tmax[l];
+        return r;
+    }
 };
 
 // 14 vectors plus one vector's room for the permutation fields: 240 bytes at K = 4, under four

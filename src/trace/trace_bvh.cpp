@@ -161,39 +161,6 @@ struct BoxRay {
     }
 };
 
-/// The watertight test of one ray against four triangles: triangle.h's operations, lane by lane
-/// in the same order, so each lane's t and verdict are the scalar test's bit for bit.
-struct WatertightRay4 {
-    int kx, ky, kz;
-    vfloat4 org[3], sx, sy, sz;
-
-    explicit WatertightRay4(const WatertightRay& r)
-        : kx(r.kx), ky(r.ky), kz(r.kz), sx(r.sx), sy(r.sy), sz(r.sz) {
-        for (int a = 0; a < 3; ++a) org[a] = vfloat4(r.org[a]);
-    }
-
-    /// Lanes that hit in [tmin, tmax], their distances in `t`.
-    RTT_FORCEINLINE uint32_t test(const BvhTriangles4& q, float tmin, float tmax,
-                                  vfloat4& t) const {
-        const auto rel = [&](const float(&v)[3][4], int a) { return vfloat4::load(v[a]) - org[a]; };
-        const vfloat4 akz = rel(q.v0, kz), bkz = rel(q.v1, kz), ckz = rel(q.v2, kz);
-        const vfloat4 ax = rel(q.v0, kx) - sx * akz, ay = rel(q.v0, ky) - sy * akz;
-        const vfloat4 bx = rel(q.v1, kx) - sx * bkz, by = rel(q.v1, ky) - sy * bkz;
-        const vfloat4 cx = rel(q.v2, kx) - sx * ckz, cy = rel(q.v2, ky) - sy * ckz;
-        const vfloat4 u = cx * by - cy * bx;
-        const vfloat4 v = ax * cy - ay * cx;
-        const vfloat4 w = bx * ay - by * ax;
-        const vfloat4 zero(0.f);
-        const vbool4 outside =
-            ((u < zero) | (v < zero) | (w < zero)) & ((u > zero) | (v > zero) | (w > zero));
-        const vfloat4 det = (u + v) + w;
-        const vfloat4 az = sz * akz, bz = sz * bkz, cz = sz * ckz;
-        t = ((u * az + v * bz) + w * cz) / det;
-        const vbool4 in_range = (t >= vfloat4(tmin)) & (t <= vfloat4(tmax));  // false for NaN
-        return movemask(in_range & !outside & !(det == zero));
-    }
-};
-
 struct StackEntry {
     uint32_t child;
     float near;

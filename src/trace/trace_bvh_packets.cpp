@@ -221,10 +221,16 @@ RTT_FORCEINLINE void prefetch_child(const Bvh<W>& bvh, uint32_t child) {
     for (size_t off = 0; off < size; off += 64) __builtin_prefetch(p + off);
 }
 
+/// At most this many lanes in a leaf's box: each is tested alone, against four triangles at a
+/// time (WatertightRay4), rather than the packets against each triangle: 1-3 % faster with
+/// 16 lanes, nothing with 8 (docs/benchmarks.md, "Arbitrary rays").
+constexpr int few_lanes = K >= 16 ? 4 : 0;
+
 /// traverse() for M packets whose lanes share direction signs, as one: each node's children
 /// are culled by one W-lane test of the packets' common frustum, and a survivor is entered when
 /// some packet's lanes pass it. Subtrees are ordered by the frustum's entry distance, one
-/// number for all lanes. A leaf is tested by every live lane that may still reach it.
+/// number for all lanes. A leaf is tested by the live lanes whose own test passed its box, as
+/// packets, or one lane at a time where they are few (few_lanes).
 /// `blockers` (any hit, may be null): tested on every lane first; blockers found are noted.
 template <int W, bool AnyHit, int M>
 void traverse_frustum(const Bvh<W>& bvh, const PacketRays* const* rays, PacketHit<K>* best,
@@ -289,68 +295,117 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays* const* rays, PacketHi
     struct Entry {
         uint32_t child;
         float near;
+        uint32_t lanes[M];  ///< A leaf's: per packet the lanes whose own test passed its box.
+    };
+    // Lane l of packet m alone against the leaf blocks [first, first + count), four triangles
+    // at a time: the packet test's operations lane by lane, so the same t and verdicts.
+    // Whether it hit.
+    const auto leaf_alone = [&](int m, int l, uint32_t first, uint32_t count) {
+        Part& p = part[m];
+        const WatertightRay4 r4(p.wp.lane(l));
+        const float tmin = p.wp.tmin[l];
+        float tmax = p.wp.tmax[l];
+        const vb lane = vb::from_bits(1u << l);
+        bool hit = false;
+        for (uint32_t k = first; k < first + count; ++k) {
+            const BvhTriangles4& q = bvh.blocks[k];
+            vfloat4 t4;
+            uint32_t hits = r4.test(q, tmin, tmax, t4);
+            if (!hits) continue;
+            alignas(16) float t[4];
+            store(t, t4);
+            for (; hits; hits &= hits - 1) {
+                const int i = std::countr_zero(hits);
+                const uint32_t id = q.id[i];
+                if (id == invalid_triangle) continue;
+                hit = true;
+                if constexpr (AnyHit) {
+                    blocked[m] |= lane;
+                    p.alive = andnot(p.alive, lane);
+                    if (blockers) blockers->note(id, triangle_of(q, i));
+                    return true;
+                } else {
+                    // inclusive tmax, as the packet test's
+                    p.wp.tmax = select(best[m].update(lane, vf(t[i]), id), vf(t[i]), p.wp.tmax);
+                    tmax = p.wp.tmax[l];
+                }
+            }
+        }
+        return hit;
     };
     Entry stack[(W - 1) * bvh_max_depth + W];
     int top = 0;
     uint32_t cur = 0;
     float cur_near = frustum.tmin;
+    uint32_t cur_lanes[M];
+    for (int m = 0; m < M; ++m) cur_lanes[m] = ~0u;
     for (;;) {
         if (cur & bvh_leaf_bit) {
             const uint32_t first = (cur & ~bvh_leaf_bit) >> 3, count = cur & 7u;
             bool hit_any = false;
             vb lanes[M];
-            for (int m = 0; m < M; ++m)
-                lanes[m] = part[m].alive & (vf(cur_near) <= part[m].wp.tmax);
-            const auto some_lanes = [&] {
-                vb all = lanes[0];
-                for (int m = 1; m < M; ++m) all |= lanes[m];
-                return any(all);
-            };
-            for (uint32_t k = first; k < first + count && some_lanes(); ++k) {
-                const BvhTriangles4& q = bvh.blocks[k];
-                // The block's vertices relative to the common origin, permuted: the scalar
-                // test's subtractions, for the four triangles at once, and once for packets
-                // that share origin and permutation. Kept in memory: a lane is broadcast by the
-                // load port, where a permute would take a port the test's arithmetic needs
-                // (docs/benchmarks.md, "Arbitrary rays").
-                alignas(16) float rel4[3][3][4];
-                int rel_of = -1;  // the part whose origin rel4 holds
-                for (int m = 0; m < M; ++m) {
-                    Part& p = part[m];
-                    if (none(lanes[m])) continue;
-                    if (p.relative && rel_of != p.origin_of) {
-                        const float(*v[3])[4] = {q.v0, q.v1, q.v2};
-                        for (int i = 0; i < 3; ++i)
-                            for (int j = 0; j < 3; ++j)
-                                store(rel4[i][j],
-                                      vfloat4::load(v[i][p.axes[j]]) - vfloat4(p.po[j]));
-                        rel_of = p.origin_of;
-                    }
-                    for (int l = 0; l < 4; ++l) {
-                        const uint32_t id = q.id[l];
-                        if (id == invalid_triangle) continue;
-                        vf t(0.f);
-                        vb hit;
-                        if (p.relative) {
-                            const auto at = [&](int i, int j) { return vf(rel4[i][j][l]); };
-                            const RelativeTriangle<K> rel{at(0, 0), at(0, 1), at(0, 2),
-                                                          at(1, 0), at(1, 1), at(1, 2),
-                                                          at(2, 0), at(2, 1), at(2, 2)};
-                            hit = intersect_watertight_relative<K>(p.wp, lanes[m], rel, t);
-                        } else {
-                            hit = intersect_watertight<K>(p.wp, lanes[m], triangle_of(q, l), t);
+            int count_lanes = 0;
+            for (int m = 0; m < M; ++m) {
+                lanes[m] =
+                    part[m].alive & vb::from_bits(cur_lanes[m]) & (vf(cur_near) <= part[m].wp.tmax);
+                count_lanes += std::popcount(movemask(lanes[m]));
+            }
+            if (count_lanes <= few_lanes) {
+                for (int m = 0; m < M; ++m)
+                    for (uint32_t bits = movemask(lanes[m]); bits; bits &= bits - 1)
+                        hit_any |= leaf_alone(m, std::countr_zero(bits), first, count);
+            } else {
+                const auto some_lanes = [&] {
+                    vb all = lanes[0];
+                    for (int m = 1; m < M; ++m) all |= lanes[m];
+                    return any(all);
+                };
+                for (uint32_t k = first; k < first + count && some_lanes(); ++k) {
+                    const BvhTriangles4& q = bvh.blocks[k];
+                    // The block's vertices relative to the common origin, permuted: the scalar
+                    // test's subtractions, for the four triangles at once, and once for packets
+                    // that share origin and permutation. Kept in memory: a lane is broadcast by the
+                    // load port, where a permute would take a port the test's arithmetic needs
+                    // (docs/benchmarks.md, "Arbitrary rays").
+                    alignas(16) float rel4[3][3][4];
+                    int rel_of = -1;  // the part whose origin rel4 holds
+                    for (int m = 0; m < M; ++m) {
+                        Part& p = part[m];
+                        if (none(lanes[m])) continue;
+                        if (p.relative && rel_of != p.origin_of) {
+                            const float(*v[3])[4] = {q.v0, q.v1, q.v2};
+                            for (int i = 0; i < 3; ++i)
+                                for (int j = 0; j < 3; ++j)
+                                    store(rel4[i][j],
+                                          vfloat4::load(v[i][p.axes[j]]) - vfloat4(p.po[j]));
+                            rel_of = p.origin_of;
                         }
-                        if constexpr (AnyHit) {
-                            blocked[m] |= hit;
-                            lanes[m] = andnot(lanes[m], hit);
-                            p.alive = andnot(p.alive, hit);
-                            if (blockers && any(hit)) blockers->note(id, triangle_of(q, l));
-                        } else {
-                            // inclusive tmax: a later equal-t hit still reaches the index
-                            // tie-break
-                            p.wp.tmax = select(best[m].update(hit, t, id), t, p.wp.tmax);
+                        for (int l = 0; l < 4; ++l) {
+                            const uint32_t id = q.id[l];
+                            if (id == invalid_triangle) continue;
+                            vf t(0.f);
+                            vb hit;
+                            if (p.relative) {
+                                const auto at = [&](int i, int j) { return vf(rel4[i][j][l]); };
+                                const RelativeTriangle<K> rel{at(0, 0), at(0, 1), at(0, 2),
+                                                              at(1, 0), at(1, 1), at(1, 2),
+                                                              at(2, 0), at(2, 1), at(2, 2)};
+                                hit = intersect_watertight_relative<K>(p.wp, lanes[m], rel, t);
+                            } else {
+                                hit = intersect_watertight<K>(p.wp, lanes[m], triangle_of(q, l), t);
+                            }
+                            if constexpr (AnyHit) {
+                                blocked[m] |= hit;
+                                lanes[m] = andnot(lanes[m], hit);
+                                p.alive = andnot(p.alive, hit);
+                                if (blockers && any(hit)) blockers->note(id, triangle_of(q, l));
+                            } else {
+                                // inclusive tmax: a later equal-t hit still reaches the index
+                                // tie-break
+                                p.wp.tmax = select(best[m].update(hit, t, id), t, p.wp.tmax);
+                            }
+                            hit_any |= any(hit);
                         }
-                        hit_any |= any(hit);
                     }
                 }
             }
@@ -380,13 +435,25 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays* const* rays, PacketHi
             while (bits) {
                 const int c = std::countr_zero(bits);
                 bits &= bits - 1;
+                Entry e{node.child[c], near[c], {}};
                 bool passes = false;
-                for (int m = 0; m < M && !passes; ++m) {
-                    vf lane_near;
-                    passes = any(rays[m]->test(node, c, live[m], part[m].wp.tmax, lane_near));
+                if (e.child & bvh_leaf_bit) {
+                    // A leaf is tested by the lanes whose own test passes its box: every
+                    // packet's are needed.
+                    for (int m = 0; m < M; ++m) {
+                        vf lane_near;
+                        e.lanes[m] =
+                            movemask(rays[m]->test(node, c, live[m], part[m].wp.tmax, lane_near));
+                        passes |= e.lanes[m] != 0;
+                    }
+                } else {
+                    for (int m = 0; m < M; ++m) e.lanes[m] = ~0u;
+                    for (int m = 0; m < M && !passes; ++m) {
+                        vf lane_near;
+                        passes = any(rays[m]->test(node, c, live[m], part[m].wp.tmax, lane_near));
+                    }
                 }
                 if (!passes) continue;
-                Entry e{node.child[c], near[c]};
                 prefetch_child(bvh, e.child);
                 if (!have) {
                     have = true;
@@ -406,6 +473,7 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays* const* rays, PacketHi
             if (have) {
                 cur = next.child;
                 cur_near = next.near;
+                std::copy_n(next.lanes, M, cur_lanes);
                 continue;
             }
         }
@@ -415,6 +483,7 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays* const* rays, PacketHi
             if (e.near <= tfar) {
                 cur = e.child;
                 cur_near = e.near;
+                std::copy_n(e.lanes, M, cur_lanes);
                 break;
             }
         }
