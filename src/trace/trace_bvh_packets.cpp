@@ -394,17 +394,20 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays* const* rays, PacketHi
                             } else {
                                 hit = intersect_watertight<K>(p.wp, lanes[m], triangle_of(q, l), t);
                             }
+                            // Most tests hit no lane: a branch, rather than updates in
+                            // memory for every test.
+                            if (none(hit)) continue;
+                            hit_any = true;
                             if constexpr (AnyHit) {
                                 blocked[m] |= hit;
                                 lanes[m] = andnot(lanes[m], hit);
                                 p.alive = andnot(p.alive, hit);
-                                if (blockers && any(hit)) blockers->note(id, triangle_of(q, l));
+                                if (blockers) blockers->note(id, triangle_of(q, l));
                             } else {
                                 // inclusive tmax: a later equal-t hit still reaches the index
                                 // tie-break
                                 p.wp.tmax = select(best[m].update(hit, t, id), t, p.wp.tmax);
                             }
-                            hit_any |= any(hit);
                         }
                     }
                 }
