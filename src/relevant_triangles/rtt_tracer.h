@@ -26,6 +26,8 @@
 // This header: the tracer's class and shared constants (internal to this folder).
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <memory>
@@ -267,7 +269,13 @@ private:
     mutable std::atomic<bool> bvh_built_{false};
     mutable std::atomic<uint64_t> loose_rays_{0};     ///< Spread rays of tiles that are no shaft.
     mutable std::atomic<uint64_t> declined_rays_{0};  ///< Rays of declined regions.
-    mutable MeasuredChoice shadow_fallback_;  ///< 0: kd-tree, 1: BVH (ShadowFallback::measured).
+    /// 0: kd-tree, 1: BVH (ShadowFallback::measured), one choice per sampling density (the
+    /// tiles' cell, 4K samples): which way is faster changes with K (docs/benchmarks.md, "RTT's
+    /// fallback"), and one tracer may serve several K.
+    mutable std::array<MeasuredChoice, 17> shadow_fallback_;
+    MeasuredChoice& shadow_fallback(int cell) const {
+        return shadow_fallback_[size_t(std::clamp(cell / 4, 0, int(shadow_fallback_.size()) - 1))];
+    }
 };
 
 }  // namespace rtt_detail

@@ -76,11 +76,12 @@ void RttTracer::trace_declined(const SegmentTile& tile, std::span<uint8_t> visib
     const ShadowFallback how = options_.shadow_fallback;
     int way = 0;  // the kd-tree
     bool timed = false;
+    MeasuredChoice& choice = shadow_fallback(tile.cell);
     if (how != ShadowFallback::kd_tree &&
         bvh_pays(declined_rays_, declined_rays_per_triangle, active)) {
         bvh();  // built before any timing starts
-        way = how == ShadowFallback::bvh ? 1 : shadow_fallback_.pick();
-        timed = how == ShadowFallback::measured && shadow_fallback_.chosen() < 0;
+        way = how == ShadowFallback::bvh ? 1 : choice.pick();
+        timed = how == ShadowFallback::measured && choice.chosen() < 0;
     }
     const auto start = std::chrono::steady_clock::now();
     if (way == 1) {
@@ -92,7 +93,7 @@ void RttTracer::trace_declined(const SegmentTile& tile, std::span<uint8_t> visib
     if (timed) {
         const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
             std::chrono::steady_clock::now() - start);
-        shadow_fallback_.record(way, uint64_t(ns.count()), active);
+        choice.record(way, uint64_t(ns.count()), active);
     }
 }
 
