@@ -50,6 +50,18 @@ struct WatertightRay {
     float tmin = 0.f, tmax = pos_inf;
 
     WatertightRay() = default;
+    /// The constants as made elsewhere (lane by lane in packets and batches).
+    WatertightRay(const Vec3f& org_, int kx_, int ky_, int kz_, float sx_, float sy_, float sz_,
+                  float tmin_, float tmax_)
+        : org(org_),
+          kx(kx_),
+          ky(ky_),
+          kz(kz_),
+          sx(sx_),
+          sy(sy_),
+          sz(sz_),
+          tmin(tmin_),
+          tmax(tmax_) {}
     explicit WatertightRay(const Ray& ray) : org(ray.org), tmin(ray.tmin), tmax(ray.tmax) {
         kz = max_abs_axis(ray.dir);
         kx = kz == 2 ? 0 : kz + 1;

@@ -93,17 +93,15 @@ struct alignas(sizeof(vfloat<K>)) WatertightPacket {
 
     /// Lane l's constants as one WatertightRay, bit for bit.
     WatertightRay lane(int l) const {
-        WatertightRay r;
-        r.org = {org.x[l], org.y[l], org.z[l]};
-        r.kx = kx[l];
-        r.ky = ky[l];
-        r.kz = kz[l];
-        r.sx = sx[l];
-        r.sy = sy[l];
-        r.sz = sz[l];
-        r.tmin = tmin[l];
-        r.tmax = tmax[l];
-        return r;
+        return {{org.x[l], org.y[l], org.z[l]},
+                kx[l],
+                ky[l],
+                kz[l],
+                sx[l],
+                sy[l],
+                sz[l],
+                tmin[l],
+                tmax[l]};
     }
 };
 

@@ -65,17 +65,7 @@ struct RaySetups {
 
     /// WatertightRay(rays[l]), bit for bit.
     WatertightRay watertight(int l, const Ray& ray) const {
-        WatertightRay r;
-        r.org = ray.org;
-        r.kx = kx[l];
-        r.ky = ky[l];
-        r.kz = kz[l];
-        r.sx = sx[l];
-        r.sy = sy[l];
-        r.sz = sz[l];
-        r.tmin = ray.tmin;
-        r.tmax = ray.tmax;
-        return r;
+        return {ray.org, kx[l], ky[l], kz[l], sx[l], sy[l], sz[l], ray.tmin, ray.tmax};
     }
 };
 
