@@ -126,7 +126,7 @@ struct RttOptions {
     /// Declined shadow regions may take the BVH too once it is built (their segments count
     /// towards its build with the camera's declined rays): faster where they leave dense
     /// meshes, slower where they end in foliage (docs/benchmarks.md, "RTT's fallback"), so by
-    /// default timed per tracer.
+    /// default timed per tracer and sampling density (RayTile::cell).
     ShadowFallback shadow_fallback = ShadowFallback::measured;
 
     /// Throws rtt::Error for a value out of range.
