@@ -62,20 +62,31 @@ void check_rays(std::span<const Ray> rays, size_t outputs, const char* output) {
         throw Error("ray " + std::to_string(i) + what);
 }
 
+/// Chunks a probe traces, every `stride`-th from the first: at most max_count, so that tracing
+/// them twice costs a 1M-ray batch under 1 %, and at most one in eight of a small batch.
+struct Probe {
+    static constexpr size_t max_count = 8;
+    size_t count, stride;
+    explicit Probe(size_t chunks)
+        : count(std::clamp<size_t>(chunks / 8, 1, max_count)), stride(chunks / count) {}
+    bool probed(size_t c) const { return c % stride == 0 && c / stride < count; }
+};
+
 /// Fills out[i] for every rays[i] by answer(chunk, answers, stats) on chunks in parallel, and
 /// sums the statistics. A chunk is consecutive rays, answered in place, or, when `order` is not
 /// empty, rays gathered in that order (ray_order.h), answered into a buffer and scattered back.
-/// Chunks c with skip(c) are left as they are.
-template <typename T, typename Answer, typename Skip>
+/// Chunks a probe has answered (`done`, when given) are left as they are.
+template <typename T, typename Answer>
 void answer_in_chunks(std::span<const Ray> rays, const large_vector<uint32_t>& order,
-                      std::span<T> out, TraceStats* stats, const Answer& answer, const Skip& skip) {
+                      std::span<T> out, TraceStats* stats, const Answer& answer,
+                      const Probe* done = nullptr) {
     tbb::combinable<TraceStats> partial;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks_of(rays.size())),
                       [&](const tbb::blocked_range<size_t>& r) {
                           Ray gathered[chunk_rays];
                           T answers[chunk_rays];
                           for (size_t c = r.begin(); c != r.end(); ++c) {
-                              if (skip(c)) continue;
+                              if (done && done->probed(c)) continue;
                               const size_t first = c * chunk_rays;
                               const size_t n = std::min(chunk_rays, rays.size() - first);
                               TraceStats* st = stats ? &partial.local() : nullptr;
@@ -92,16 +103,6 @@ void answer_in_chunks(std::span<const Ray> rays, const large_vector<uint32_t>& o
                       });
     if (stats) partial.combine_each([&](const TraceStats& s) { *stats += s; });
 }
-
-/// Chunks a probe traces, every `stride`-th from the first: at most max_count, so that tracing
-/// them twice costs a 1M-ray batch under 1 %, and at most one in eight of a small batch.
-struct Probe {
-    static constexpr size_t max_count = 8;
-    size_t count, stride;
-    explicit Probe(size_t chunks)
-        : count(std::clamp<size_t>(chunks / 8, 1, max_count)), stride(chunks / count) {}
-    bool probed(size_t c) const { return c % stride == 0 && c / stride < count; }
-};
 
 /// Whether a batch's rays wait on memory (order_any_hit_above): traces the probe's chunks as
 /// given, answers into `out` and statistics into `stats`, each once more right after (that
@@ -153,12 +154,10 @@ void intersect_rays(const Tracer& tracer, std::span<const Ray> rays, std::span<H
     // Closest hits paid for the order on every scene measured (docs/benchmarks.md).
     const large_vector<uint32_t> order =
         tracer.reorders_batches() ? coherent_order(rays) : large_vector<uint32_t>{};
-    answer_in_chunks(
-        rays, order, hits, stats,
-        [&](std::span<const Ray> chunk, std::span<Hit> out, TraceStats* st) {
-            tracer.intersect_arbitrary(chunk, out, st);
-        },
-        [](size_t) { return false; });
+    answer_in_chunks(rays, order, hits, stats,
+                     [&](std::span<const Ray> chunk, std::span<Hit> out, TraceStats* st) {
+                         tracer.intersect_arbitrary(chunk, out, st);
+                     });
 }
 
 void visible_rays_probed(const Tracer& tracer, std::span<const Ray> rays,
@@ -167,18 +166,17 @@ void visible_rays_probed(const Tracer& tracer, std::span<const Ray> rays,
     const auto answer = [&](std::span<const Ray> chunk, std::span<uint8_t> out, TraceStats* st) {
         tracer.visible_arbitrary(chunk, out, st);
     };
-    const auto none = [](size_t) { return false; };
     if (!tracer.reorders_batches() || rays.size() < reorder_min_rays)
-        return answer_in_chunks(rays, {}, visible, stats, answer, none);
+        return answer_in_chunks(rays, {}, visible, stats, answer);
     const Probe probe(chunks_of(rays.size()));
     TraceStats probed;
     if (waits_on_memory(rays, visible, probed, probe, order_above, answer)) {
         // The probe's chunks are traced again in their places in the order.
         if (const auto order = coherent_order(rays); !order.empty())
-            return answer_in_chunks(rays, order, visible, stats, answer, none);
+            return answer_in_chunks(rays, order, visible, stats, answer);
     }
     if (stats) *stats += probed;
-    answer_in_chunks(rays, {}, visible, stats, answer, [&](size_t c) { return probe.probed(c); });
+    answer_in_chunks(rays, {}, visible, stats, answer, &probe);
 }
 
 void visible_rays(const Tracer& tracer, std::span<const Ray> rays, std::span<uint8_t> visible,

@@ -216,23 +216,16 @@ RTT_FORCEINLINE Hit traverse(const Bvh<W>& bvh, const Ray& ray, const RaySetups<
     for (;;) {
         if (cur & bvh_leaf_bit) {
             const uint32_t first = (cur & ~bvh_leaf_bit) >> 3, count = cur & 7u;
-            for (uint32_t k = first; k < first + count; ++k) {
-                const BvhTriangles4& q = bvh.blocks[k];
-                vfloat4 t4;
-                uint32_t hits = wr4.test(q, ray.tmin, wr.tmax, t4);
-                if (!hits) continue;
-                alignas(16) float t[4];
-                store(t, t4);
-                for (; hits; hits &= hits - 1) {
-                    const int l = std::countr_zero(hits);
-                    if (q.id[l] == invalid_triangle) continue;
-                    if constexpr (AnyHit) return Hit{t[l], q.id[l]};
-                    if (closer(t[l], q.id[l], best)) {
-                        best = {t[l], q.id[l]};
-                        wr.tmax = t[l];  // inclusive: equal t still reaches the tie-break
+            const bool ended = for_each_leaf_hit(
+                bvh, first, count, wr4, ray.tmin, wr.tmax,
+                [&](const BvhTriangles4& q, int l, float t) {
+                    if (AnyHit || closer(t, q.id[l], best)) {
+                        best = {t, q.id[l]};
+                        wr.tmax = t;  // inclusive: equal t still reaches the tie-break
                     }
-                }
-            }
+                    return AnyHit;
+                });
+            if (ended) return best;
         } else {
             const BvhNode<W>& node = bvh.nodes[cur];
             vfloat<W> near;

@@ -2,6 +2,7 @@
 // and callers holding a Bvh.
 #pragma once
 
+#include <bit>
 #include <cfloat>
 #include <cstddef>
 #include <cstdint>
@@ -122,6 +123,28 @@ struct WatertightRay4 {
         return movemask(in_range & !outside & !(det == zero));
     }
 };
+
+/// Calls on_hit(block, lane, t) for each triangle of the leaf blocks [first, first + count)
+/// that `r` hits in [tmin, tmax], `tmax` read again for every block (on_hit may shrink it);
+/// stops and returns true as soon as on_hit does (an any-hit ray's end).
+template <int W, typename OnHit>
+RTT_FORCEINLINE bool for_each_leaf_hit(const Bvh<W>& bvh, uint32_t first, uint32_t count,
+                                       const WatertightRay4& r, float tmin, const float& tmax,
+                                       OnHit&& on_hit) {
+    for (uint32_t k = first; k < first + count; ++k) {
+        const BvhTriangles4& q = bvh.blocks[k];
+        vfloat4 t4;
+        uint32_t hits = r.test(q, tmin, tmax, t4);
+        if (!hits) continue;
+        alignas(16) float t[4];
+        store(t, t4);
+        for (; hits; hits &= hits - 1) {
+            const int l = std::countr_zero(hits);
+            if (q.id[l] != invalid_triangle && on_hit(q, l, t[l])) return true;
+        }
+    }
+    return false;
+}
 
 /// The closest hit of `ray` (trace_ray's, bit for bit). W = 4, or bvh_width.
 template <int W>

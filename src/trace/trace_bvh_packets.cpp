@@ -302,35 +302,24 @@ void traverse_frustum(const Bvh<W>& bvh, const PacketRays* const* rays, PacketHi
     // Whether it hit.
     const auto leaf_alone = [&](int m, int l, uint32_t first, uint32_t count) {
         Part& p = part[m];
-        const WatertightRay4 r4(p.wp.lane(l));
-        const float tmin = p.wp.tmin[l];
         float tmax = p.wp.tmax[l];
         const vb lane = vb::from_bits(1u << l);
         bool hit = false;
-        for (uint32_t k = first; k < first + count; ++k) {
-            const BvhTriangles4& q = bvh.blocks[k];
-            vfloat4 t4;
-            uint32_t hits = r4.test(q, tmin, tmax, t4);
-            if (!hits) continue;
-            alignas(16) float t[4];
-            store(t, t4);
-            for (; hits; hits &= hits - 1) {
-                const int i = std::countr_zero(hits);
-                const uint32_t id = q.id[i];
-                if (id == invalid_triangle) continue;
-                hit = true;
-                if constexpr (AnyHit) {
-                    blocked[m] |= lane;
-                    p.alive = andnot(p.alive, lane);
-                    if (blockers) blockers->note(id, triangle_of(q, i));
-                    return true;
-                } else {
-                    // inclusive tmax, as the packet test's
-                    p.wp.tmax = select(best[m].update(lane, vf(t[i]), id), vf(t[i]), p.wp.tmax);
-                    tmax = p.wp.tmax[l];
-                }
-            }
-        }
+        for_each_leaf_hit(bvh, first, count, WatertightRay4(p.wp.lane(l)), p.wp.tmin[l], tmax,
+                          [&](const BvhTriangles4& q, int i, float t) {
+                              hit = true;
+                              if constexpr (AnyHit) {
+                                  blocked[m] |= lane;
+                                  p.alive = andnot(p.alive, lane);
+                                  if (blockers) blockers->note(q.id[i], triangle_of(q, i));
+                              } else {
+                                  // inclusive tmax, as the packet test's
+                                  p.wp.tmax = select(best[m].update(lane, vf(t), q.id[i]), vf(t),
+                                                     p.wp.tmax);
+                                  tmax = p.wp.tmax[l];
+                              }
+                              return AnyHit;
+                          });
         return hit;
     };
     Entry stack[(W - 1) * bvh_max_depth + W];
