@@ -29,7 +29,7 @@ namespace {
 template <int K>
 struct RaySetups {
     using vf = vfloat<K>;
-    alignas(64) float inv[3][K], org_inv[3][K], t_margin[K], sx[K], sy[K], sz[K];
+    alignas(64) float inv[3][K], org_inv[3][K], t_margin[K], far_t_margin[K], sx[K], sy[K], sz[K];
     alignas(64) int32_t kx[K], ky[K], kz[K];
     uint32_t negative[3], flat[3], free[3];  ///< Lane bits per axis.
 
@@ -54,6 +54,7 @@ struct RaySetups {
             free[a] = box.free[a];
         }
         store(t_margin, box.t_margin);
+        store(far_t_margin, box.far_t_margin);
         const WatertightPacket<K> w(o, d, f[6], f[7], vbool<K>(true));
         store(sx, w.sx);
         store(sy, w.sy);
@@ -74,8 +75,8 @@ template <int W>
 struct BoxRay {
     using vf = vfloat<W>;
     vf inv[3], org_inv[3];
-    vf org[3];    ///< Only for rays that are not plain (below).
-    vf t_margin;  ///< BoxLanes::t_margin.
+    vf org[3];                  ///< Only for rays that are not plain (below).
+    vf t_margin, far_t_margin;  ///< BoxLanes'.
     /// Byte offsets in a node of the faces a ray enters and leaves by on each axis (hi when
     /// dir < 0): fixed per ray, so a node's test picks no faces.
     uint32_t enter[3], leave[3];
@@ -93,6 +94,7 @@ struct BoxRay {
             org_inv[a] = vf(s.org_inv[a][l]);
         }
         t_margin = vf(s.t_margin[l]);
+        far_t_margin = vf(s.far_t_margin[l]);
         const auto axes = [l](const uint32_t(&lanes)[3]) {
             return ((lanes[0] >> l) & 1u) | ((lanes[1] >> l) & 1u) << 1 |
                    ((lanes[2] >> l) & 1u) << 2;
@@ -113,41 +115,48 @@ struct BoxRay {
     /// Lanes of the node's children whose box the ray may meet in [tmin, tmax]; their entry
     /// distances (widened) in `near`.
     RTT_FORCEINLINE uint32_t test(const BvhNode<W>& n, float tmin, float tmax, vf& near) const {
-        vf tn(neg_inf), tf(pos_inf);
         if (plain) [[likely]] {
-            // dir[a] != 0: the entry face gives the smaller distance (a padding slot's +-inf
-            // box gives tn = +inf, and the slot is masked anyway).
+            // dir[a] != 0: the entry face gives the smaller distance. A padding slot's box (lo
+            // +inf, hi -inf) gives tn = +inf and tf = -inf, so it is never entered.
             const char* base = reinterpret_cast<const char*>(&n);
             const auto face = [&](uint32_t offset, int a) {
                 return mul_sub(vf::load(reinterpret_cast<const float*>(base + offset)), inv[a],
                                org_inv[a]);
             };
-            tn = max(max(face(enter[0], 0), face(enter[1], 1)), face(enter[2], 2));
-            tf = min(min(face(leave[0], 0), face(leave[1], 1)), face(leave[2], 2));
-        } else {
-            for (int a = 0; a < 3; ++a) {
-                if (free[a]) continue;
-                const vf dlo = (vf::load(n.lo[a]) - org[a]) * inv[a];
-                const vf dhi = (vf::load(n.hi[a]) - org[a]) * inv[a];
-                vf na = min(dlo, dhi), fa = max(dlo, dhi);
-                if (flat[a]) {  // in a face's plane: inside the closed slab
-                    const auto in_plane = isnan(dlo) | isnan(dhi);
-                    na = select(in_plane, vf(neg_inf), na);
-                    fa = select(in_plane, vf(pos_inf), fa);
-                }
-                tn = max(tn, na);
-                tf = min(tf, fa);
-            }
+            const vf tn = max(max(face(enter[0], 0), face(enter[1], 1)), face(enter[2], 2));
+            const vf tf = min(min(face(leave[0], 0), face(leave[1], 1)), face(leave[2], 2));
+            return meets(tn, tf, tmin, tmax, near);
         }
-        // Widened by twice the margin of trace_ray's split distances: (1 -+ 2 kd_margin) scales
-        // |t| down or up whatever its sign; infinities stay infinite.
+        vf tn(neg_inf), tf(pos_inf);
+        for (int a = 0; a < 3; ++a) {
+            if (free[a]) continue;
+            const vf dlo = (vf::load(n.lo[a]) - org[a]) * inv[a];
+            const vf dhi = (vf::load(n.hi[a]) - org[a]) * inv[a];
+            vf na = min(dlo, dhi), fa = max(dlo, dhi);
+            if (flat[a]) {  // in a face's plane: inside the closed slab
+                const auto in_plane = isnan(dlo) | isnan(dhi);
+                na = select(in_plane, vf(neg_inf), na);
+                fa = select(in_plane, vf(pos_inf), fa);
+            }
+            tn = max(tn, na);
+            tf = min(tf, fa);
+        }
+        // Here a padding slot's box spans every slab it is measured on.
+        const uint32_t used = (1u << n.count) - 1u;
+        return meets(tn, tf, tmin, tmax, near) & used;
+    }
+
+private:
+    /// Lanes whose interval [tn, tf], widened by twice the margin of trace_ray's split
+    /// distances ((1 -+ 2 kd_margin) scales |t| down or up whatever its sign; infinities stay
+    /// infinite), meets [tmin, tmax]; the widened entry distances in `near`.
+    RTT_FORCEINLINE uint32_t meets(vf tn, vf tf, float tmin, float tmax, vf& near) const {
         vf far;
         if (nonneg_tmin)
-            widen_interval<true>(tn, tf, 2.f * kd_margin, t_margin, near, far);
+            widen_interval<true>(tn, tf, 2.f * kd_margin, t_margin, far_t_margin, near, far);
         else
-            widen_interval(tn, tf, 2.f * kd_margin, t_margin, near, far);
-        const uint32_t used = (1u << n.count) - 1u;
-        return movemask(max(near, vf(tmin)) <= min(far, vf(tmax))) & used;
+            widen_interval(tn, tf, 2.f * kd_margin, t_margin, far_t_margin, near, far);
+        return movemask(max(near, vf(tmin)) <= min(far, vf(tmax)));
     }
 };
 

@@ -36,6 +36,19 @@ RTT_FORCEINLINE void box_faces(uint32_t negative, uint32_t (&enter)[3], uint32_t
     }
 }
 
+/// The margin a caller with tmin >= 0 adds to far distances instead of `t_margin`
+/// (widen_interval<true>), so that one fused operation widens them. leave (1 + relative) +
+/// far_margin is at least the two-sided widening max(leave (1 - relative), leave (1 + relative))
+/// + t_margin wherever that can reach tmin: for leave >= 0 it is; a negative leave reaches
+/// tmin >= 0 only when |leave| (1 - relative) <= t_margin, and the two then differ by
+/// 2 relative |leave| <= 2 relative t_margin / (1 - relative), less than the 4 relative
+/// t_margin added (rounding, being monotonic, keeps the order). Elsewhere a far distance only
+/// grows, and a box is only entered more often.
+template <typename V>
+RTT_FORCEINLINE V far_margin(V t_margin, float relative) {
+    return t_margin * V(1.f + 4.f * relative);
+}
+
 /// The node tests' constants of K rays, lane by lane (docs/design.md, "The BVH for arbitrary
 /// rays"): the inverse directions, the origins times them, and `t_margin`, the widening of a
 /// box's interval beyond its |t| part: 2 kd_margin times the scene's t scale (trace_ray.h's
@@ -47,6 +60,7 @@ template <int K>
 struct BoxLanes {
     using vf = vfloat<K>;
     vf inv[3], org_inv[3], t_margin;
+    vf far_t_margin;  ///< far_margin(t_margin, 2 kd_margin): the single rays' box test's.
     uint32_t negative[3], flat[3], free[3];  ///< Lane bits per axis.
 
     RTT_FORCEINLINE BoxLanes(const Vec3v<K>& org, const Vec3v<K>& dir, const Bbox3f& bounds) {
@@ -69,6 +83,7 @@ struct BoxLanes {
         }
         const vf scale = min_flt_max(dist / dir_max);
         t_margin = vf(2.f * kd_margin) * min_flt_max(scale + org_t * vf(0x1p-6f));
+        far_t_margin = far_margin(t_margin, 2.f * kd_margin);
     }
 
     /// Lanes with an axis that is flat or free.
@@ -80,15 +95,19 @@ struct BoxLanes {
 /// Infinities stay infinite.
 /// NonNegTmin: the caller compares `near` with a tmin >= 0 only (max(near, tmin)), so a
 /// negative entry distance, however widened, loses to tmin: only the shrink a non-negative one
-/// needs is applied, one operation instead of three, and the comparison is unchanged.
+/// needs is applied, and `far` takes `far_t_margin` (far_margin(t_margin, relative)): one
+/// operation each instead of three. Otherwise `far_t_margin` is not read.
 template <bool NonNegTmin = false, typename V>
-RTT_FORCEINLINE void widen_interval(V enter, V leave, float relative, V t_margin, V& near, V& far) {
+RTT_FORCEINLINE void widen_interval(V enter, V leave, float relative, V t_margin, V far_t_margin,
+                                    V& near, V& far) {
     const V shrink(1.f - relative), grow(1.f + relative);
-    if constexpr (NonNegTmin)
+    if constexpr (NonNegTmin) {
         near = mul_sub(enter, shrink, t_margin);
-    else
+        far = mul_add(leave, grow, far_t_margin);
+    } else {
         near = min(mul_sub(enter, shrink, t_margin), mul_sub(enter, grow, t_margin));
-    far = max(mul_add(leave, grow, t_margin), mul_add(leave, shrink, t_margin));
+        far = max(mul_add(leave, grow, t_margin), mul_add(leave, shrink, t_margin));
+    }
 }
 
 /// The watertight test of one ray against four triangles: triangle.h's operations, lane by lane

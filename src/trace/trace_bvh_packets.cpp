@@ -37,7 +37,7 @@ struct PacketRays {
     Vec3v<K> org, dir;
     vf tmin, tmax;
     vf inv[3], org_inv[3];
-    vf t_margin;  ///< As trace_bvh.cpp's BoxRay::t_margin, per lane.
+    vf t_margin, far_t_margin;  ///< As trace_bvh.cpp's BoxRay's, per lane.
     /// Every traced lane's direction has one sign per axis (else traversals go by octant);
     /// the faces each axis enters and leaves by, at byte offsets from a child's lo.x.
     bool same_signs = false;
@@ -82,6 +82,7 @@ struct PacketRays {
         }
         const vf scale = min(dist / dmax, vf(FLT_MAX)) + org_t * vf(0x1p-6f);
         t_margin = vf(2.f * kd_margin) * min(scale, vf(FLT_MAX));
+        far_t_margin = far_margin(t_margin, 2.f * kd_margin);
     }
 
     /// Traces only the lanes `lanes`: sets `active`, and whether they share direction signs
@@ -115,9 +116,10 @@ struct PacketRays {
         const vf leave_t = min(min(face(leave[0], 0), face(leave[1], 1)), face(leave[2], 2));
         vf far;
         if (nonneg_tmin)
-            widen_interval<true>(enter_t, leave_t, 2.f * kd_margin, t_margin, near, far);
+            widen_interval<true>(enter_t, leave_t, 2.f * kd_margin, t_margin, far_t_margin, near,
+                                 far);
         else
-            widen_interval(enter_t, leave_t, 2.f * kd_margin, t_margin, near, far);
+            widen_interval(enter_t, leave_t, 2.f * kd_margin, t_margin, far_t_margin, near, far);
         return lanes & (max(near, tmin) <= min(far, tmax_now));
     }
 };
@@ -133,7 +135,7 @@ struct PacketFrustum {
     float inv_lo[3], inv_hi[3];
     uint32_t enter[3], leave[3];  ///< PacketRays' face offsets.
     float inv_near[3];  ///< Of inv_lo and inv_hi, the one giving the smaller entry in front.
-    float tmin, t_margin;
+    float tmin, t_margin, far_t_margin;
     bool nonneg_tmin;
 
     /// Over the active lanes of `m` packets that share direction signs (their face offsets).
@@ -172,6 +174,7 @@ struct PacketFrustum {
         nonneg_tmin = true;
         for (int i = 0; i < m; ++i) nonneg_tmin &= parts[i]->nonneg_tmin;
         t_margin = 2.f * highest([](const PacketRays& r) { return r.t_margin; });
+        far_t_margin = far_margin(t_margin, 4.f * kd_margin);
     }
 
     /// Children whose box some lane may meet in [tmin, tfar]; the frustum's widened entry
@@ -197,7 +200,8 @@ private:
             tf = min(tf, max(l * vw(inv_lo[a]), l * vw(inv_hi[a])));
         }
         vw far;
-        widen_interval<NonNegTmin>(tn, tf, 4.f * kd_margin, vw(t_margin), near, far);
+        widen_interval<NonNegTmin>(tn, tf, 4.f * kd_margin, vw(t_margin), vw(far_t_margin), near,
+                                   far);
         const uint32_t used = (1u << n.count) - 1u;
         return movemask(max(near, vw(tmin)) <= min(far, vw(tfar))) & used;
     }
