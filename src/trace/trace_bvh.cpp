@@ -31,7 +31,7 @@ struct RaySetups {
     using vf = vfloat<K>;
     alignas(64) float inv[3][K], org_inv[3][K], t_margin[K], far_t_margin[K], sx[K], sy[K], sz[K];
     alignas(64) int32_t kx[K], ky[K], kz[K];
-    uint32_t negative[3], flat[3], free[3];  ///< Lane bits per axis.
+    alignas(64) int32_t negative[K], flat[K], free[K];  ///< BoxLanes' axis bits.
 
     /// rays[0, n), 1 <= n <= K; the lanes beyond n repeat ray 0.
     RaySetups(const Ray* rays, int n, const Bbox3f& bounds) {
@@ -49,11 +49,11 @@ struct RaySetups {
         for (int a = 0; a < 3; ++a) {
             store(inv[a], box.inv[a]);
             store(org_inv[a], box.org_inv[a]);
-            negative[a] = box.negative[a];
-            flat[a] = box.flat[a];
-            free[a] = box.free[a];
         }
         store(t_margin, box.t_margin);
+        store(negative, box.negative);
+        store(flat, box.flat);
+        store(free, box.free);
         store(far_t_margin, box.far_t_margin);
         const WatertightPacket<K> w(o, d, f[6], f[7], vbool<K>(true));
         store(sx, w.sx);
@@ -95,14 +95,10 @@ struct BoxRay {
         }
         t_margin = vf(s.t_margin[l]);
         far_t_margin = vf(s.far_t_margin[l]);
-        const auto axes = [l](const uint32_t(&lanes)[3]) {
-            return ((lanes[0] >> l) & 1u) | ((lanes[1] >> l) & 1u) << 1 |
-                   ((lanes[2] >> l) & 1u) << 2;
-        };
-        const uint32_t flat_bits = axes(s.flat), free_bits = axes(s.free);
+        const uint32_t flat_bits = uint32_t(s.flat[l]), free_bits = uint32_t(s.free[l]);
         plain = (flat_bits | free_bits) == 0;
         nonneg_tmin = ray.tmin >= 0.f;
-        box_faces<W>(axes(s.negative), enter, leave);
+        box_faces<W>(uint32_t(s.negative[l]), enter, leave);
         if (!plain) [[unlikely]] {
             for (int a = 0; a < 3; ++a) {
                 org[a] = vf(ray.org[a]);
@@ -258,24 +254,28 @@ RTT_FORCEINLINE Hit traverse(const Bvh<W>& bvh, const Ray& ray, const RaySetups<
                     cur = node.child[i];
                     continue;
                 }
-                int j = std::countr_zero(mask);
+                const int j = std::countr_zero(mask);
                 mask &= mask - 1;
-                if (d[j] < d[i]) std::swap(i, j);
+                // Which of the two is nearer, by selects: a branch here mispredicted about once
+                // a ray (callgrind).
+                const bool j_nearer = d[j] < d[i];
+                const int near_c = j_nearer ? j : i, far_c = j_nearer ? i : j;
+                stack[top++] = {node.child[far_c], d[far_c]};
                 if (!mask) {  // two: the far one waits
-                    stack[top++] = {node.child[j], d[j]};
-                    cur = node.child[i];
+                    cur = node.child[near_c];
                     continue;
                 }
-                // Three or more: the rest sorted far to near on the stack, the nearest next.
-                int order[W] = {j, i}, n = 2;
+                // Three or more: sorted far to near on the stack, the nearest popped as the next.
+                const int base = top - 1;
+                stack[top++] = {node.child[near_c], d[near_c]};
                 for (; mask; mask &= mask - 1) {
                     const int c = std::countr_zero(mask);
-                    int k = n++;
-                    for (; k > 0 && d[order[k - 1]] < d[c]; --k) order[k] = order[k - 1];
-                    order[k] = c;
+                    const StackEntry e{node.child[c], d[c]};
+                    int k = top++;
+                    for (; k > base && stack[k - 1].near < e.near; --k) stack[k] = stack[k - 1];
+                    stack[k] = e;
                 }
-                for (int k = 0; k < n - 1; ++k) stack[top++] = {node.child[order[k]], d[order[k]]};
-                cur = node.child[order[n - 1]];
+                cur = stack[--top].child;
                 continue;
             }
         }
