@@ -202,8 +202,9 @@ private:
         vw far;
         widen_interval<NonNegTmin>(tn, tf, 4.f * kd_margin, vw(t_margin), vw(far_t_margin), near,
                                    far);
-        const uint32_t used = (1u << n.count) - 1u;
-        return movemask(max(near, vw(tmin)) <= min(far, vw(tfar))) & used;
+        // No mask of the slots in use: an unused slot's empty box (lo +inf, hi -inf) gives
+        // every lane's rays, whose direction has one sign per axis, an entry of +inf.
+        return movemask(max(near, vw(tmin)) <= min(far, vw(tfar)));
     }
 };
 
@@ -221,7 +222,8 @@ RTT_FORCEINLINE void prefetch_child(const Bvh<W>& bvh, uint32_t child) {
     const char* p = child & bvh_leaf_bit
                         ? reinterpret_cast<const char*>(&bvh.blocks[(child & ~bvh_leaf_bit) >> 3])
                         : reinterpret_cast<const char*>(&bvh.nodes[child]);
-    const size_t size = child & bvh_leaf_bit ? sizeof(BvhTriangles4) : sizeof(BvhNode<W>);
+    // A node's boxes and children; its child count, on a line of its own, is not read.
+    const size_t size = child & bvh_leaf_bit ? sizeof(BvhTriangles4) : offsetof(BvhNode<W>, count);
     for (size_t off = 0; off < size; off += 64) __builtin_prefetch(p + off);
 }
 
