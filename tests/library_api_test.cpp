@@ -161,6 +161,64 @@ TEST(LibraryApi, VisibleRaysAgreeWithClosestHits) {
     }
 }
 
+// Rays that start on a triangle, at a vertex or just past it with tmin = 0: the triangle's
+// box lies at or barely behind the origin, where only the box tests' widening (the BVH's
+// far side in one fused operation, trace_bvh.h's far_margin) keeps it entered. Every kind
+// gives the reference's answer, t = 0 hits included.
+TEST(LibraryApi, RaysStartingOnTrianglesMatchTheReference) {
+    test::Tris tris;
+    test::add_sphere(tris, {0.3f, -0.2f, 0.1f}, 0.7f, 20, 10);
+    test::add_grid(tris, {-1.5f, -1.f, -1.5f}, {3, 0, 0}, {0, 0, 3}, 7, 7);  // axis-aligned
+    std::mt19937 rng(41);
+    std::uniform_real_distribution<float> u(0.f, 1.f), s(-1.f, 1.f);
+    for (int i = 0; i < 60; ++i) {  // a soup of small triangles at random slants
+        const Vec3f c{s(rng), s(rng), s(rng)};
+        tris.push_back({c, c + Vec3f{s(rng), s(rng), s(rng)} * 0.3f,
+                        c + Vec3f{s(rng), s(rng), s(rng)} * 0.3f});
+    }
+    const Scene scene = test::scene_of(tris);
+    const KdTree tree = build_kdtree(scene);
+    std::vector<Ray> rays;
+    for (const TriangleVerts& t : tris) {
+        for (int k = 0; k < 6; ++k) {
+            float b1 = u(rng), b2 = u(rng);
+            if (b1 + b2 > 1.f) b1 = 1.f - b1, b2 = 1.f - b2;
+            // On the triangle, or at one of its vertices.
+            const Vec3f on = k < 3 ? t.v0 + (t.v1 - t.v0) * b1 + (t.v2 - t.v0) * b2
+                                   : (k == 3   ? t.v0
+                                      : k == 4 ? t.v1
+                                               : t.v2);
+            Vec3f dir{s(rng), s(rng), s(rng)};
+            if (dir == Vec3f{0.f}) dir = {0.f, 1.f, 0.f};
+            rays.push_back(Ray{on, dir, 0.f, pos_inf});
+            // Just past it: the triangle's box a hair behind the origin.
+            rays.push_back(Ray{on + dir * 0x1p-20f, dir, 0.f, pos_inf});
+        }
+    }
+    const auto reference = make_tracer("ray", scene, tree);
+    std::vector<Hit> expected(rays.size());
+    for (size_t i = 0; i < rays.size(); ++i)
+        reference->intersect_arbitrary(std::span(&rays[i], 1), std::span(&expected[i], 1));
+    size_t at_zero = 0;
+    for (const Hit& h : expected) at_zero += h.valid() && h.t == 0.f;
+    ASSERT_GT(at_zero, rays.size() / 20);  // the case this test is for occurs
+    for (const std::string& kind : tracer_kinds()) {
+        if (differential::tie_breaks_differ(kind)) continue;
+        const auto tracer = make_tracer(kind, scene, tree);
+        std::vector<Hit> got(rays.size());
+        std::vector<uint8_t> visible(rays.size());
+        intersect_rays(*tracer, rays, got);
+        visible_rays(*tracer, rays, visible);
+        size_t closest_mismatches = 0, visible_mismatches = 0;
+        for (size_t i = 0; i < rays.size(); ++i) {
+            closest_mismatches += !(got[i] == expected[i]);
+            visible_mismatches += visible[i] != !expected[i].valid();
+        }
+        EXPECT_EQ(closest_mismatches, 0u) << kind;
+        EXPECT_EQ(visible_mismatches, 0u) << kind;
+    }
+}
+
 // A batch of reorder_min_rays or more is traced grouped by octant and origin (ray_order.h):
 // every ray still gets its own answer, closest hit and visibility, on every kind.
 TEST(LibraryApi, ReorderedBatchesGiveEachRayItsOwnAnswer) {
