@@ -28,8 +28,10 @@ struct alignas(64) BvhNode {
 };
 
 /// Four triangles of a leaf, structure of arrays for one SIMD watertight test; unused lanes
-/// have the id invalid_triangle.
-struct alignas(64) BvhTriangles4 {
+/// have the id invalid_triangle. 160 bytes, not padded to whole cache lines (192): the first
+/// image pays about a millisecond per MB of fresh memory, and traversal ran as fast
+/// (docs/benchmarks.md, "Arbitrary rays").
+struct alignas(16) BvhTriangles4 {
     float v0[3][4], v1[3][4], v2[3][4];
     uint32_t id[4];
 };
