@@ -222,9 +222,12 @@ RTT_FORCEINLINE void prefetch_child(const Bvh<W>& bvh, uint32_t child) {
     const char* p = child & bvh_leaf_bit
                         ? reinterpret_cast<const char*>(&bvh.blocks[(child & ~bvh_leaf_bit) >> 3])
                         : reinterpret_cast<const char*>(&bvh.nodes[child]);
-    // A node's boxes and children; its child count, on a line of its own, is not read.
+    // A node's boxes and children; its child count, on a line of its own, is not read. Leaf
+    // blocks are 160 bytes, so a block may start mid-line: every line up to its last byte.
     const size_t size = child & bvh_leaf_bit ? sizeof(BvhTriangles4) : offsetof(BvhNode<W>, count);
-    for (size_t off = 0; off < size; off += 64) __builtin_prefetch(p + off);
+    const uintptr_t first = reinterpret_cast<uintptr_t>(p) & ~uintptr_t(63);
+    for (uintptr_t line = first; line < reinterpret_cast<uintptr_t>(p) + size; line += 64)
+        __builtin_prefetch(reinterpret_cast<const void*>(line));
 }
 
 /// At most this many lanes in a leaf's box: each is tested alone, against four triangles at a
