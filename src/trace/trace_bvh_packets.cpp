@@ -8,6 +8,7 @@
 // trace_bvh's bit for bit. Lanes whose direction has a zero or tiny component take the
 // single-ray kernel, which handles those axes.
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cfloat>
 #include <cstddef>
@@ -534,24 +535,79 @@ struct PacketGroup {
 };
 
 /// Closest hits of the lanes used[m] of group_size packets, traced together where they can be
-/// (traverse_group): hit(m, lane, Hit) for each.
+/// (traverse_group): out(m, hits) with packet m's in its lanes (misses in lanes not used).
 template <int W, typename Out>
 void trace_blocks(const Bvh<W>& bvh, const RayPacket<K>* const* packet, const uint32_t* used,
-                  Out&& hit) {
+                  Out&& out) {
     const PacketGroup group(packet, used, bvh.padded_bounds);
     const PacketRays* const* p = group.p;
     PacketHit<K> best[group_size];
     vb unused[group_size];
     traverse_group<W, false, group_size>(bvh, p, best, unused);
     for (int m = 0; m < group_size; ++m) {
-        for (uint32_t bits = used[m]; bits; bits &= bits - 1) {
-            const int i = std::countr_zero(bits);
-            const PacketHit<K>& h = best[m];
-            hit(m, i,
-                (p[m]->single >> i) & 1u                ? trace_bvh(bvh, packet[m]->get(i))
-                : h.tri[i] == int32_t(invalid_triangle) ? Hit{}
-                                                        : Hit{h.t[i], uint32_t(h.tri[i])});
+        if (const uint32_t single = p[m]->single) {  // lanes the packet left to single rays
+            alignas(64) float t[K];
+            alignas(64) int32_t tri[K];
+            store(t, best[m].t);
+            store(tri, best[m].tri);
+            for (uint32_t bits = single; bits; bits &= bits - 1) {
+                const int i = std::countr_zero(bits);
+                const Hit h = trace_bvh(bvh, packet[m]->get(i));
+                t[i] = h.t;
+                tri[i] = int32_t(h.tri);
+            }
+            best[m].t = vf::load(t);
+            best[m].tri = vint<K>::load(tri);
         }
+        out(m, best[m]);
+    }
+}
+
+/// Writes the hits of a packet's lanes `used` to out[sample[lane]]. A whole block (every lane
+/// used) is packet_height rows of packet_width consecutive samples, `row_stride` apart: written
+/// a row at a time, where lane by lane the stores of a frame's hits were 4 % of `Primary/bvh`
+/// (docs/benchmarks.md, "Arbitrary rays").
+void store_hits(const PacketHit<K>& h, uint32_t used, const int* sample, int row_stride, Hit* out) {
+    constexpr int pw = packet_width<K>, ph = packet_height<K>;
+    static_assert(sizeof(Hit) == 2 * sizeof(float));
+    alignas(64) float pairs[2 * K];  // (t, triangle) per lane: a Hit's layout
+    storeu_pairs(pairs, h.t, as_float(h.tri));
+    if (used == all_lanes<K>) {
+        Hit* first = out + sample[0];
+        for (int r = 0; r < ph; ++r)
+            std::memcpy(static_cast<void*>(first + ptrdiff_t(r) * row_stride), pairs + 2 * pw * r,
+                        sizeof(Hit) * pw);
+        return;
+    }
+    for (uint32_t bits = used; bits; bits &= bits - 1) {
+        const int i = std::countr_zero(bits);
+        std::memcpy(static_cast<void*>(out + sample[i]), pairs + 2 * i, sizeof(Hit));
+    }
+}
+
+/// Writes 1 (visible) or 0 (blocked: its bit in `blocked`) to out[sample[lane]] for a packet's
+/// lanes `used`; a whole block a row at a time, as store_hits.
+void store_visible(uint32_t blocked, uint32_t used, const int* sample, int row_stride,
+                   uint8_t* out) {
+    constexpr int pw = packet_width<K>, ph = packet_height<K>;
+    if (used == all_lanes<K>) {
+        // Per row of pw lanes, its pw bytes: byte l is 1 unless bit l is set (little endian).
+        static constexpr auto row_bytes = [] {
+            std::array<uint32_t, 1u << pw> table{};
+            for (uint32_t bits = 0; bits < table.size(); ++bits)
+                for (int l = 0; l < pw; ++l)
+                    table[bits] |= uint32_t(!((bits >> l) & 1u)) << (8 * l);
+            return table;
+        }();
+        uint8_t* first = out + sample[0];
+        for (int r = 0; r < ph; ++r)
+            std::memcpy(first + ptrdiff_t(r) * row_stride,
+                        &row_bytes[(blocked >> (pw * r)) & ((1u << pw) - 1u)], pw);
+        return;
+    }
+    for (uint32_t bits = used; bits; bits &= bits - 1) {
+        const int i = std::countr_zero(bits);
+        out[sample[i]] = uint8_t(!((blocked >> i) & 1u));
     }
 }
 
@@ -634,8 +690,9 @@ void trace_bvh_packets(const Bvh<W>& bvh, std::span<const Ray> rays, std::span<H
         in_groups(
             [&](auto&& block) { for_each_run(rays.subspan(first, count), block); },
             [&](const RayPacket<K>* const* packet, const uint32_t* used, const int* const* sample) {
-                trace_blocks(bvh, packet, used,
-                             [&](int m, int i, Hit h) { hits[first + size_t(sample[m][i])] = h; });
+                trace_blocks(bvh, packet, used, [&](int m, const PacketHit<K>& h) {
+                    store_hits(h, used[m], sample[m], packet_width<K>, hits.data() + first);
+                });
             });
     });
 }
@@ -650,10 +707,8 @@ void visible_bvh_packets(const Bvh<W>& bvh, std::span<const Ray> rays, std::span
                 uint32_t blocked[group_size] = {};
                 blocked_blocks(bvh, packet, used, blocked);
                 for (int m = 0; m < group_size; ++m)
-                    for (uint32_t bits = used[m]; bits; bits &= bits - 1) {
-                        const int i = std::countr_zero(bits);
-                        visible[first + size_t(sample[m][i])] = !((blocked[m] >> i) & 1u);
-                    }
+                    store_visible(blocked[m], used[m], sample[m], packet_width<K>,
+                                  visible.data() + first);
             });
     });
 }
@@ -667,8 +722,9 @@ void trace_bvh_tile(const Bvh<W>& bvh, const RayTile& tile, std::span<Hit> hits)
                 tile, [](int) { return true; }, block);
         },
         [&](const RayPacket<K>* const* packet, const uint32_t* used, const int* const* sample) {
-            trace_blocks(bvh, packet, used,
-                         [&](int m, int i, Hit h) { hits[size_t(sample[m][i])] = h; });
+            trace_blocks(bvh, packet, used, [&](int m, const PacketHit<K>& h) {
+                store_hits(h, used[m], sample[m], tile.width, hits.data());
+            });
         });
 }
 
@@ -684,10 +740,7 @@ uint64_t visible_bvh_segments(const Bvh<W>& bvh, const SegmentTile& tile,
             uint32_t blocked[group_size] = {};
             if (!bvh.nodes.empty()) blocked_blocks(bvh, packet, used, blocked, &blockers);
             for (int m = 0; m < group_size; ++m) {
-                for (uint32_t bits = used[m]; bits; bits &= bits - 1) {
-                    const int i = std::countr_zero(bits);
-                    visible[size_t(sample[m][i])] = !((blocked[m] >> i) & 1u);
-                }
+                store_visible(blocked[m], used[m], sample[m], tile.width, visible.data());
                 traced += uint64_t(std::popcount(used[m]));
             }
         });
