@@ -154,6 +154,17 @@ struct PacketFrustum {
             return reduce_max(v)[0];
         };
         const PacketRays& p = *parts[0];
+        // Parts that all start at one point (bit for bit: a camera, a light) bound their origins
+        // by that point, without reductions.
+        float origin[3];
+        bool one_origin = true;
+        for (int i = 0; i < m && one_origin; ++i) {
+            const PacketRays& r = *parts[i];
+            const int l = std::countr_zero(movemask(r.active));
+            const float o[3] = {r.org.x[l], r.org.y[l], r.org.z[l]};
+            if (i == 0) std::memcpy(origin, o, sizeof o);
+            one_origin = r.common_origin && std::memcmp(origin, o, sizeof o) == 0;
+        }
         for (int a = 0; a < 3; ++a) {
             // dir > 0: (face - org) * inv is least at the largest origin, greatest at the
             // smallest; dir < 0 the other way round. Each bound is then the lesser (greater) of
@@ -163,8 +174,8 @@ struct PacketFrustum {
                 return a == 0 ? r.org.x : a == 1 ? r.org.y : r.org.z;
             };
             const auto inv = [a](const PacketRays& r) { return r.inv[a]; };
-            o_near[a] = positive ? highest(org) : lowest(org);
-            o_far[a] = positive ? lowest(org) : highest(org);
+            o_near[a] = one_origin ? origin[a] : positive ? highest(org) : lowest(org);
+            o_far[a] = one_origin ? origin[a] : positive ? lowest(org) : highest(org);
             inv_lo[a] = lowest(inv);
             inv_hi[a] = highest(inv);
             enter[a] = p.enter[a];
