@@ -3,6 +3,7 @@
 #pragma once
 
 #include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <type_traits>
 
@@ -59,19 +60,38 @@ RTT_FORCEINLINE void load_segment_packet(const Vec3f& light, const Vec3f* first,
     store_packet<K>(f, active, packet);
 }
 
+/// Blocks ahead of the one traced whose records are prefetched: a group of two packets
+/// (trace_bvh_packets.cpp) takes far longer than a fetch.
+inline constexpr int prefetch_blocks_ahead = 2;
+
+/// Starts loading the `rows` rows of `row_bytes` bytes, `stride` bytes apart, from `first`.
+RTT_FORCEINLINE void prefetch_rows(const void* first, int rows, size_t row_bytes, size_t stride) {
+    const char* p = static_cast<const char*>(first);
+    for (int r = 0; r < rows; ++r, p += stride) {
+        const uintptr_t begin = reinterpret_cast<uintptr_t>(p) & ~uintptr_t(63);
+        for (uintptr_t line = begin; line < reinterpret_cast<uintptr_t>(p) + row_bytes; line += 64)
+            __builtin_prefetch(reinterpret_cast<const void*>(line));
+    }
+}
+
 /// Calls fn(packet, active lane bits, sample index per lane) for each packet-shaped block of a
 /// width x height grid; `wanted(sample)` says whether a sample takes part. A block inside the
 /// grid is read in registers by `load_block(packet, first sample, active)`; one cut by the
 /// grid's end (sizes that are not multiples of the tile) is staged lane by lane by
 /// `fill(packet, lane, sample)`, its inactive lanes filled with a copy of an active sample.
-template <int K, typename Wanted, typename LoadBlock, typename Fill, typename Fn>
+/// `prefetch(first sample)` is called for the block prefetch_blocks_ahead along its row of
+/// blocks, when that block lies inside the grid.
+template <int K, typename Wanted, typename LoadBlock, typename Fill, typename Prefetch, typename Fn>
 void for_each_block(int width, int height, Wanted&& wanted, LoadBlock&& load_block, Fill&& fill,
-                    Fn&& fn) {
+                    Prefetch&& prefetch, Fn&& fn) {
     constexpr int pw = packet_width<K>, ph = packet_height<K>;
     RayPacket<K> packet;
     int sample[K];
     for (int y0 = 0; y0 < height; y0 += ph) {
         for (int x0 = 0; x0 < width; x0 += pw) {
+            if (const int ahead = x0 + prefetch_blocks_ahead * pw;
+                ahead + pw <= width && y0 + ph <= height)
+                prefetch(y0 * width + ahead);
             uint32_t active = 0;
             for (int ly = 0; ly < ph; ++ly) {
                 for (int lx = 0; lx < pw; ++lx) {
@@ -102,7 +122,12 @@ void for_each_ray_block(const RayTile& tile, Wanted&& wanted, Fn&& fn) {
         [&](RayPacket<K>& packet, int first, uint32_t active) {
             load_packet<K>(tile.rays.data() + first, tile.width, active, packet);
         },
-        [&](RayPacket<K>& packet, int lane, int s) { packet.set(lane, tile.rays[s]); }, fn);
+        [&](RayPacket<K>& packet, int lane, int s) { packet.set(lane, tile.rays[s]); },
+        [&](int first) {
+            prefetch_rows(tile.rays.data() + first, packet_height<K>, sizeof(Ray) * packet_width<K>,
+                          sizeof(Ray) * size_t(tile.width));
+        },
+        fn);
 }
 
 /// The same over a shadow tile's segments shadow_ray(tile.light, point).
@@ -116,6 +141,10 @@ void for_each_segment_block(const SegmentTile& tile, Wanted&& wanted, Fn&& fn) {
         },
         [&](RayPacket<K>& packet, int lane, int s) {
             packet.set(lane, shadow_ray(tile.light, tile.points[s]));
+        },
+        [&](int first) {
+            prefetch_rows(tile.points.data() + first, packet_height<K>,
+                          sizeof(Vec3f) * packet_width<K>, sizeof(Vec3f) * size_t(tile.width));
         },
         fn);
 }
