@@ -614,27 +614,19 @@ TEST(Rtt, ShadowsOnCurvedReceiversMatchReference) {
 
 TEST(Rtt, MeasuredChoiceTakesTheFasterWay) {
     using rtt_detail::MeasuredChoice;
-    constexpr double h = MeasuredChoice::way1_handicap;
-    // Tiles of 1,000 rays, ns[w] nanoseconds a ray the way w, until the choice.
-    const auto choose = [](MeasuredChoice& choice, const double(&ns)[2], uint64_t* tiles) {
+    // Tiles of 1,000 rays, 10 ns a ray the faster way and `slow` the other, until the choice.
+    const auto choose = [](MeasuredChoice& choice, int faster, uint64_t slow, uint64_t* tiles) {
         while (choice.chosen() < 0) {
             const int way = choice.pick();
             ++tiles[way];
-            choice.record(way, uint64_t(ns[way] * 1'000), 1'000);
+            choice.record(way, way == faster ? 10'000 : slow * 1'000, 1'000);
         }
-    };
-    // Measured times for which `faster` leads by `lead` once way 1's are handicapped.
-    const auto times = [&](int faster, double lead, double(&ns)[2]) {
-        ns[0] = faster == 0 ? 10.0 : 10.0 * h * lead;
-        ns[1] = faster == 1 ? 10.0 : 10.0 * lead / h;
     };
     for (const int faster : {0, 1}) {
         MeasuredChoice choice;
         EXPECT_EQ(choice.chosen(), -1);
         uint64_t tiles[2] = {};
-        double ns[2];
-        times(faster, 1.2, ns);  // a lead of a fifth: the full probe
-        choose(choice, ns, tiles);
+        choose(choice, faster, 12, tiles);  // a lead of a fifth: the full probe
         EXPECT_EQ(choice.chosen(), faster);
         // The slower way only on its probe tiles, the faster one between them too.
         const uint64_t probe_tiles = MeasuredChoice::probe_rays / 1'000 + 1;
@@ -648,17 +640,10 @@ TEST(Rtt, MeasuredChoiceTakesTheFasterWay) {
     for (const int faster : {0, 1}) {
         MeasuredChoice choice;
         uint64_t tiles[2] = {};
-        double ns[2];
-        times(faster, 2.0, ns);
-        choose(choice, ns, tiles);
+        choose(choice, faster, 20, tiles);
         EXPECT_EQ(choice.chosen(), faster);
         EXPECT_EQ(tiles[1 - faster], MeasuredChoice::early_rays / 1'000 + 1);
     }
-    // Way 1 measured a tenth faster, less than its handicap: way 0 is taken.
-    MeasuredChoice choice;
-    uint64_t tiles[2] = {};
-    choose(choice, {11.0, 10.0}, tiles);
-    EXPECT_EQ(choice.chosen(), 0);
 }
 
 TEST(Rtt, ObjectsAgainstBackgroundMatchBruteForce) {

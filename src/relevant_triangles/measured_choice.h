@@ -26,12 +26,6 @@ public:
     /// them the slow way (docs/benchmarks.md, "RTT's fallback").
     static constexpr uint64_t early_rays = uint64_t(1) << 15;
     static constexpr double clear_lead = 1.25;
-    /// Way 1's times are taken this many times as long as measured. Its probes run beside way
-    /// 0's, in caches both fill, and miss what the second structure costs the rest of the
-    /// tracer's work (the kd-tree's walks, the answered tiles): against each way alone they
-    /// put the BVH's way ahead by 1.0-1.4x more than it is (docs/benchmarks.md, "RTT's
-    /// fallback"), and took it on plants at K = 4, where alone it is a fifth slower.
-    static constexpr double way1_handicap = 1.2;
 
     /// The way (0 or 1) for the next tile.
     int pick() {
@@ -42,7 +36,7 @@ public:
     }
 
     /// A tile of `rays` traced by `way` in `ns`. Once both ways have probe_rays, the one with
-    /// fewer nanoseconds per ray (way 1's handicapped) is chosen.
+    /// fewer nanoseconds per ray is chosen.
     void record(int way, uint64_t ns, uint64_t rays) {
         if (chosen_.load(std::memory_order_relaxed) >= 0) return;
         ns_[way].fetch_add(ns, std::memory_order_relaxed);
@@ -68,8 +62,7 @@ private:
         const uint64_t r1 = rays_[1].load(std::memory_order_relaxed);
         if (r0 < early_rays || r1 < early_rays) return 1.0;
         const double per_ray0 = double(ns_[0].load(std::memory_order_relaxed)) / double(r0);
-        const double per_ray1 =
-            way1_handicap * double(ns_[1].load(std::memory_order_relaxed)) / double(r1);
+        const double per_ray1 = double(ns_[1].load(std::memory_order_relaxed)) / double(r1);
         return std::max(per_ray0, per_ray1) / std::max(std::min(per_ray0, per_ray1), 1e-9);
     }
 
@@ -79,8 +72,7 @@ private:
         const uint64_t r1 = rays_[1].load(std::memory_order_relaxed);
         if (r0 == 0 || r1 == 0) return 0;
         const double per_ray0 = double(ns_[0].load(std::memory_order_relaxed)) / double(r0);
-        const double per_ray1 =
-            way1_handicap * double(ns_[1].load(std::memory_order_relaxed)) / double(r1);
+        const double per_ray1 = double(ns_[1].load(std::memory_order_relaxed)) / double(r1);
         return per_ray1 < per_ray0 ? 1 : 0;
     }
 
