@@ -288,6 +288,9 @@ TEST(Render, RttLooseRaysThroughTheBvhGiveTheSameImage) {
     const KdTree tree = build_kdtree(f.scene);
     RenderOptions o = options(64, 48, 2);
     o.hits_buffer = o.shadow_buffer = true;
+    // The first render's declined rays pay for the BVH late in the frame (RttTracer::bvh_pays),
+    // so its last loose tiles may take it already; with one thread, always the same ones.
+    o.threads = 1;
     const RenderResult expected = render(f.scene, *f.tracer, o);
     const std::unique_ptr<Tracer> rtt = make_tracer("rtt", f.scene, tree);
     const RenderResult before = render(f.scene, *rtt, o);
@@ -295,7 +298,7 @@ TEST(Render, RttLooseRaysThroughTheBvhGiveTheSameImage) {
     Hit hit;
     intersect_rays(*rtt, std::span(&probe, 1), std::span(&hit, 1));
     const RenderResult after = render(f.scene, *rtt, o);
-    EXPECT_EQ(before.stats.secondary.rtt.bvh_rays, 0u);
+    EXPECT_LT(before.stats.secondary.rtt.bvh_rays, after.stats.secondary.rtt.bvh_rays);
     EXPECT_GT(after.stats.secondary.rtt.bvh_rays, 0u);
     EXPECT_GT(after.stats.shadow.rtt.bvh_rays, 0u);
     for (const RenderResult* r : {&before, &after}) {
