@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "core/platform.h"
 #include "simd/isa.h"
 #include "simd/simd.h"
 #include "simd/varying.h"
@@ -66,12 +67,8 @@ inline constexpr int prefetch_blocks_ahead = 2;
 
 /// Starts loading the `rows` rows of `row_bytes` bytes, `stride` bytes apart, from `first`.
 RTT_FORCEINLINE void prefetch_rows(const void* first, int rows, size_t row_bytes, size_t stride) {
-    const char* p = static_cast<const char*>(first);
-    for (int r = 0; r < rows; ++r, p += stride) {
-        const uintptr_t begin = reinterpret_cast<uintptr_t>(p) & ~uintptr_t(63);
-        for (uintptr_t line = begin; line < reinterpret_cast<uintptr_t>(p) + row_bytes; line += 64)
-            __builtin_prefetch(reinterpret_cast<const void*>(line));
-    }
+    for (int r = 0; r < rows; ++r)
+        prefetch_bytes(static_cast<const char*>(first) + size_t(r) * stride, row_bytes);
 }
 
 /// Calls fn(packet, active lane bits, sample index per lane) for each packet-shaped block of a

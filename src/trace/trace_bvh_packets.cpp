@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <cstring>
 
+#include "core/platform.h"
 #include "geom/triangle_simd.h"
 #include "simd/simd.h"
 #include "trace/blocker_cache.h"
@@ -237,9 +238,7 @@ RTT_FORCEINLINE void prefetch_child(const Bvh<W>& bvh, uint32_t child) {
     // A node's boxes and children; its child count, on a line of its own, is not read. Leaf
     // blocks are 160 bytes, so a block may start mid-line: every line up to its last byte.
     const size_t size = child & bvh_leaf_bit ? sizeof(BvhTriangles4) : offsetof(BvhNode<W>, count);
-    const uintptr_t first = reinterpret_cast<uintptr_t>(p) & ~uintptr_t(63);
-    for (uintptr_t line = first; line < reinterpret_cast<uintptr_t>(p) + size; line += 64)
-        __builtin_prefetch(reinterpret_cast<const void*>(line));
+    prefetch_bytes(p, size);
 }
 
 /// At most this many lanes in a leaf's box: each is tested alone, against four triangles at a

@@ -1,11 +1,10 @@
 #include "experiments/workload.h"
 
-#include <immintrin.h>
-
 #include <algorithm>
 #include <filesystem>
 #include <string>
 
+#include "core/platform.h"
 #include "render/render_internal.h"
 #include "rtt/builtin_scenes.h"
 #include "rtt/camera.h"
@@ -56,16 +55,6 @@ SegmentTile Band::segment_tile(const ShadowJob& job, const Vec3f& light_position
                        true,
                        cell};
 }
-
-namespace {
-
-void prefetch_bytes(const void* data, size_t bytes) {
-    const auto* p = static_cast<const char*>(data);
-    for (size_t i = 0; i < bytes; i += 64) _mm_prefetch(p + i, _MM_HINT_T0);
-    if (bytes) _mm_prefetch(p + bytes - 1, _MM_HINT_T0);  // an unaligned range's last line
-}
-
-}  // namespace
 
 std::vector<Hit> Band::intersect(const Tracer& tracer) const {
     std::vector<Hit> hits(rays.size());
