@@ -851,6 +851,61 @@ TEST(KdTree, MatchesBruteForceOnCameraShadowAndSecondaryRays) {
     EXPECT_GT(shadow.size(), primary.size() / 2) << "most camera rays should hit";
 }
 
+// Shadow segments from lights on a wall's plane to points on the wall, far from 0 on its axis
+// (plants' lights sit on its walls): their directions are nearly parallel to the plane, so
+// org * inv is huge and the BVH packets take face distances as (face - org) * inv, with the
+// margin that form needs (trace_bvh_packets.cpp, PacketRays::subtract). Obstacles cross the
+// wall, lie on it and just off it.
+TEST(KdTree, MatchesBruteForceOnSegmentsAlongAWallFarFromTheOrigin) {
+    constexpr float wall = 1000.5f;
+    Tris tris;
+    for (int i = 0; i < 12; ++i)
+        for (int j = 0; j < 12; ++j) {
+            const auto at = [&](int a, int b) { return Vec3f{wall, float(a), float(b)}; };
+            tris.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+            tris.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+        }
+    std::mt19937 rng(23);
+    std::uniform_real_distribution<float> pos(0.f, 12.f), off(-0.3f, 0.3f);
+    for (int k = 0; k < 600; ++k) {
+        const Vec3f c{wall + (k % 3 == 0   ? off(rng)
+                              : k % 3 == 1 ? 1e-4f * off(rng)
+                                           : 0.f),
+                      pos(rng), pos(rng)};
+        const auto vertex = [&] {
+            return c + Vec3f{k % 3 == 0 ? off(rng) : 0.f, off(rng), off(rng)};
+        };
+        tris.push_back({vertex(), vertex(), vertex()});
+    }
+    const KdTree tree = build_kdtree(scene_of(tris));
+    const Vec3f lights[3] = {{wall, 6.f, 6.f}, {wall, -2.f, 13.f}, {wall + 1e-3f, 3.f, 9.f}};
+    std::vector<Ray> rays;
+    for (const Vec3f& light : lights)
+        for (int y = 0; y < 48; ++y)
+            for (int z = 0; z < 48; ++z) {
+                // Points on the wall: exactly on its plane, or hit points of rays into it.
+                const Vec3f target{wall, 0.25f * float(y) + 0.01f, 0.25f * float(z) + 0.01f};
+                Vec3f p = target;
+                if ((y + z) % 2) {
+                    const Ray in{target + Vec3f{-3.f, 0.7f, -0.4f}, Vec3f{3.f, -0.7f, 0.4f}};
+                    const Hit h = trace_brute_force(tris, in);
+                    if (h.valid()) p = in.org + in.dir * h.t;
+                }
+                rays.push_back(shadow_ray(light, p));
+            }
+    // Segments grazing the obstacles: through a vertex or an edge's midpoint, a little beyond.
+    for (const Vec3f& light : lights)
+        for (size_t t = 288; t < tris.size(); ++t) {
+            const TriangleVerts& o = tris[t];
+            for (const Vec3f& through : {o.v0, (o.v1 + o.v2) * 0.5f})
+                rays.push_back(shadow_ray(light, through + (through - light) * 0.25f));
+        }
+    const Mismatches m = compare_with_brute_force(tree, tris, rays);
+    EXPECT_EQ(m.closest, 0u);
+    EXPECT_EQ(m.occluded, 0u);
+    EXPECT_GT(m.hits, rays.size() / 20) << "the obstacles should block some segments";
+}
+
 // A camera far from a small scene (fuzz_cli_values/camera_11469_away_tie: 11469 away from a
 // box of size 2, fovy 6e-6 degrees): the box-clip distances (bound - org) / dir are rounded at
 // the origin's magnitude, far coarser than the tree's padding, and must not cut off the hit

@@ -49,7 +49,13 @@ struct PacketRays {
     bool common_origin = false;
     vb active;                 ///< Lanes traced here.
     bool nonneg_tmin = false;  ///< Every traced lane's tmin >= 0 (widen_interval).
-    uint32_t single = 0;       ///< Lanes left to the single-ray kernel.
+    /// Face distances as (face - org) * inv, not face * inv - org * inv: where the origin's
+    /// rounding term would more than double a lane's margin (a direction nearly parallel to
+    /// an axis plane, far from 0 on that axis: shadow rays from a light on a wall to points on
+    /// it), the margin it needs culled nothing near such rays (docs/design.md, "The BVH for
+    /// arbitrary rays").
+    bool subtract = false;
+    uint32_t single = 0;  ///< Lanes left to the single-ray kernel.
 
     PacketRays() = default;
     /// The lanes `used` of `packet`; the others must hold finite rays (a copy of a used one).
@@ -75,6 +81,8 @@ struct PacketRays {
         single = movemask(odd) & used;
         restrict_to(used & ~single);
         nonneg_tmin = (movemask(tmin >= vf(0.f)) & used) == used;
+        const vf scale_plain = min(dist / dmax, vf(FLT_MAX));
+        subtract = (movemask(org_t * vf(0x1p-6f) > scale_plain) & used & ~single) != 0;
         if (const uint32_t traced = used & ~single) {
             const int l = std::countr_zero(traced);
             const auto same = [&](vf v) {
@@ -82,7 +90,7 @@ struct PacketRays {
             };
             common_origin = (same(org.x) & same(org.y) & same(org.z)) == traced;
         }
-        const vf scale = min(dist / dmax, vf(FLT_MAX)) + org_t * vf(0x1p-6f);
+        const vf scale = subtract ? scale_plain : scale_plain + org_t * vf(0x1p-6f);
         t_margin = vf(2.f * kd_margin) * min(scale, vf(FLT_MAX));
         far_t_margin = far_margin(t_margin, 2.f * kd_margin);
     }
@@ -108,11 +116,23 @@ struct PacketRays {
     /// widened entry distances in `near`. The lanes share direction signs (restrict_to).
     template <int W>
     RTT_FORCEINLINE vb test(const BvhNode<W>& n, int c, vb lanes, vf tmax_now, vf& near) const {
+        return subtract ? test_with<true>(n, c, lanes, tmax_now, near)
+                        : test_with<false>(n, c, lanes, tmax_now, near);
+    }
+
+private:
+    template <bool Subtract, int W>
+    RTT_FORCEINLINE vb test_with(const BvhNode<W>& n, int c, vb lanes, vf tmax_now,
+                                 vf& near) const {
         static_assert(W == bvh_width);
         const char* base = reinterpret_cast<const char*>(&n.lo[0][c]);
+        const vf* o[3] = {&org.x, &org.y, &org.z};
         const auto face = [&](uint32_t offset, int a) {
             const float f = *reinterpret_cast<const float*>(base + offset);
-            return mul_sub(vf(f), inv[a], org_inv[a]);
+            if constexpr (Subtract)
+                return (vf(f) - *o[a]) * inv[a];
+            else
+                return mul_sub(vf(f), inv[a], org_inv[a]);
         };
         const vf enter_t = max(max(face(enter[0], 0), face(enter[1], 1)), face(enter[2], 2));
         const vf leave_t = min(min(face(leave[0], 0), face(leave[1], 1)), face(leave[2], 2));
