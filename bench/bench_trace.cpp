@@ -5,7 +5,7 @@
 // thing.
 //
 //   bench_trace [--scene=room] [--size=640x480] [--aa=1] [--region=0]
-//               [--shadow-fallback=measured|kd|bvh] [Google Benchmark flags]
+//               [--shadow-fallback=bvh|kd] [Google Benchmark flags]
 //
 // --region: pixels per tile side, as `rtt render --region` (0 = the renderer's default per K).
 // --shadow-fallback: how rtt traces the shadow regions it declines (RttOptions::shadow_fallback).
@@ -46,7 +46,7 @@ struct Frame {
 };
 
 /// How rtt traces the shadow regions it declines (--shadow-fallback).
-ShadowFallback shadow_fallback = ShadowFallback::measured;
+ShadowFallback shadow_fallback = ShadowFallback::bvh;
 
 /// The tracer `kind` as timed here: rtt with its BVH built at setup, as in rtt bench
 /// (RttOptions::bvh_at_setup), so no frame pays for the build.
@@ -208,7 +208,7 @@ int main(int argc, char** argv) {
                 "  --aa=K             K x K samples per pixel (default 1)\n"
                 "  --region=R         pixels per region side, as rtt render --region (0 = "
                 "default)\n"
-                "  --shadow-fallback=measured|kd|bvh  how rtt traces the shadow regions it "
+                "  --shadow-fallback=bvh|kd  how rtt traces the shadow regions it "
                 "declines\n"
                 "Google Benchmark flags (--benchmark_filter=..., --benchmark_repetitions=N) "
                 "apply.\n");
@@ -228,10 +228,8 @@ int main(int argc, char** argv) {
         } else if (std::strncmp(a, "--shadow-fallback=", 18) == 0) {
             using rtt::ShadowFallback;
             const std::string_view v = a + 18;
-            ok = v == "measured" || v == "kd" || v == "bvh";
-            rtt::bench::shadow_fallback = v == "kd"    ? ShadowFallback::kd_tree
-                                          : v == "bvh" ? ShadowFallback::bvh
-                                                       : ShadowFallback::measured;
+            ok = v == "kd" || v == "bvh";
+            rtt::bench::shadow_fallback = v == "kd" ? ShadowFallback::kd_tree : ShadowFallback::bvh;
         } else {
             args.push_back(argv[i]);
         }

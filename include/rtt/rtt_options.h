@@ -86,13 +86,11 @@ enum class RttRules : uint8_t {
 
 /// How RTT traces the shadow regions it declines once its BVH is built (RttOptions).
 enum class ShadowFallback : uint8_t {
-    /// Both ways timed on probe regions spread over the first declined ones (the others take
-    /// the way leading so far); then the faster per segment.
-    measured,
-    /// The kd-tree's packets, behind the blocker cache.
-    kd_tree,
-    /// The BVH's packets, behind the blocker cache.
+    /// The BVH's packets, behind the blocker cache: faster in every scene and K measured
+    /// (docs/benchmarks.md, "RTT's fallback").
     bvh,
+    /// The kd-tree's packets, behind the blocker cache (for comparison).
+    kd_tree,
 };
 
 struct RttOptions {
@@ -123,11 +121,9 @@ struct RttOptions {
     /// tracer, for long renders and for benchmarks that time frames apart from builds. Loose rays
     /// off curved mirrors use the same BVH.
     bool bvh_at_setup = false;
-    /// Declined shadow regions may take the BVH too once it is built (their segments count
-    /// towards its build with the camera's declined rays): faster where they leave dense
-    /// meshes, slower where they end in foliage (docs/benchmarks.md, "RTT's fallback"), so by
-    /// default timed per tracer and sampling density (RayTile::cell).
-    ShadowFallback shadow_fallback = ShadowFallback::measured;
+    /// Declined shadow regions take the BVH too once it is built (their segments count
+    /// towards its build with the camera's declined rays).
+    ShadowFallback shadow_fallback = ShadowFallback::bvh;
 
     /// Throws rtt::Error for a value out of range.
     void validate() const;

@@ -16,7 +16,6 @@
 //   tile.h                tile helpers: samples still to trace, corners, end planes;
 //   primary_tiles.cpp     primary and reflected tiles: the list's use and the answers;
 //   shadow_tiles.cpp      shadow segments;
-//   measured_choice.h     the faster of two ways for declined shadow regions, timed;
 //   rtt_options.cpp       RttOptions' checks.
 // Every ray not answered from a list is traced: declined camera and mirror regions as one
 // large packet (src/trace/trace_frustum.h) when narrow, the rest as the widest packets
@@ -39,7 +38,6 @@
 
 #include "geom/plane_id.h"
 #include "relevant_triangles/corner_pass.h"
-#include "relevant_triangles/measured_choice.h"
 #include "relevant_triangles/region.h"
 #include "relevant_triangles/tile.h"
 #include "relevant_triangles/tolerances.h"
@@ -269,13 +267,6 @@ private:
     mutable std::atomic<bool> bvh_built_{false};
     mutable std::atomic<uint64_t> loose_rays_{0};     ///< Spread rays of tiles that are no shaft.
     mutable std::atomic<uint64_t> declined_rays_{0};  ///< Rays of declined regions.
-    /// 0: kd-tree, 1: BVH (ShadowFallback::measured), one choice per sampling density (the
-    /// tiles' cell, 4K samples): which way is faster changes with K (docs/benchmarks.md, "RTT's
-    /// fallback"), and one tracer may serve several K.
-    mutable std::array<MeasuredChoice, 17> shadow_fallback_;
-    MeasuredChoice& shadow_fallback(int cell) const {
-        return shadow_fallback_[size_t(std::clamp(cell / 4, 0, int(shadow_fallback_.size()) - 1))];
-    }
 };
 
 }  // namespace rtt_detail

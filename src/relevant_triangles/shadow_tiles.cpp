@@ -73,27 +73,12 @@ void RttTracer::occluded(const SegmentTile& tile, std::span<uint8_t> visible,
 
 void RttTracer::trace_declined(const SegmentTile& tile, std::span<uint8_t> visible,
                                BlockerCache& blockers, uint64_t active, RttStats& st) const {
-    const ShadowFallback how = options_.shadow_fallback;
-    int way = 0;  // the kd-tree
-    bool timed = false;
-    MeasuredChoice& choice = shadow_fallback(tile.cell);
-    if (how != ShadowFallback::kd_tree &&
+    if (options_.shadow_fallback == ShadowFallback::bvh &&
         bvh_pays(declined_rays_, declined_rays_per_triangle, active)) {
-        bvh();  // built before any timing starts
-        way = how == ShadowFallback::bvh ? 1 : choice.pick();
-        timed = how == ShadowFallback::measured && choice.chosen() < 0;
-    }
-    const auto start = std::chrono::steady_clock::now();
-    if (way == 1) {
         visible_bvh_segments(bvh(), tile, visible, blockers);
         st.bvh_rays += active;
     } else {
         occluded_tile_packets<fallback_width>(tree_, triangles_, tile, visible, nullptr, &blockers);
-    }
-    if (timed) {
-        const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
-            std::chrono::steady_clock::now() - start);
-        choice.record(way, uint64_t(ns.count()), active);
     }
 }
 
