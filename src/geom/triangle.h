@@ -14,6 +14,7 @@
 // equal t goes to the smaller index.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -73,6 +74,34 @@ struct WatertightRay {
     }
 };
 
+/// When the six products of the edge functions sum to more than this many times |det|, they
+/// cancel enough that the float t could miss the hit's true distance by more than the
+/// traversal margins allow (a thin triangle met at a grazing angle: t 2.7e-4 off where the kd
+/// margin is 6e-5; docs/design.md, "Assumptions"), and t is taken from accurate_t instead. Below
+/// it the float t errs by at most 2^-19 of the depths, an eighth of the kd-tree's margin.
+inline constexpr float t_cancellation_limit = 16.f;
+
+/// t from the sheared, permuted vertices in double: a product of two floats is exact there, so
+/// the edge functions keep their digits however much they cancel. The hit decision stays the
+/// float edge functions' (watertight); only its distance comes from here.
+RTT_NOINLINE __attribute__((cold)) inline float accurate_t(float ax, float ay, float bx, float by,
+                                                           float cx, float cy, float az, float bz,
+                                                           float cz) {
+    const double u = double(cx) * double(by) - double(cy) * double(bx);
+    const double v = double(ax) * double(cy) - double(ay) * double(cx);
+    const double w = double(bx) * double(ay) - double(by) * double(ax);
+    return float(((u * double(az) + v * double(bz)) + w * double(cz)) / ((u + v) + w));
+}
+
+/// Whether the edge functions' products (p0 - p1, p2 - p3, p4 - p5) cancel past
+/// t_cancellation_limit against det. The same sum in every form of the test.
+template <typename F, typename Abs>
+RTT_FORCEINLINE auto edge_products_cancel(F p0, F p1, F p2, F p3, F p4, F p5, F det, Abs abs_of) {
+    const F spread =
+        ((abs_of(p0) + abs_of(p1)) + (abs_of(p2) + abs_of(p3))) + (abs_of(p4) + abs_of(p5));
+    return spread > F(t_cancellation_limit) * abs_of(det);
+}
+
 /// Returns true and sets t when the ray hits the triangle at t in [tmin, tmax].
 RTT_FORCEINLINE bool intersect_watertight(const WatertightRay& r, const TriangleVerts& tri,
                                           float& t) {
@@ -85,16 +114,22 @@ RTT_FORCEINLINE bool intersect_watertight(const WatertightRay& r, const Triangle
     const float by = b[r.ky] - r.sy * b[r.kz];
     const float cx = c[r.kx] - r.sx * c[r.kz];
     const float cy = c[r.ky] - r.sy * c[r.kz];
-    const float u = cx * by - cy * bx;
-    const float v = ax * cy - ay * cx;
-    const float w = bx * ay - by * ax;
+    const float cx_by = cx * by, cy_bx = cy * bx;
+    const float ax_cy = ax * cy, ay_cx = ay * cx;
+    const float bx_ay = bx * ay, by_ax = by * ax;
+    const float u = cx_by - cy_bx;
+    const float v = ax_cy - ay_cx;
+    const float w = bx_ay - by_ax;
     if ((u < 0.f || v < 0.f || w < 0.f) && (u > 0.f || v > 0.f || w > 0.f)) return false;
     const float det = (u + v) + w;
     if (det == 0.f) return false;
     const float az = r.sz * a[r.kz];
     const float bz = r.sz * b[r.kz];
     const float cz = r.sz * c[r.kz];
-    const float tt = ((u * az + v * bz) + w * cz) / det;
+    float tt = ((u * az + v * bz) + w * cz) / det;
+    if (edge_products_cancel(cx_by, cy_bx, ax_cy, ay_cx, bx_ay, by_ax, det,
+                             [](float x) { return std::fabs(x); })) [[unlikely]]
+        tt = accurate_t(ax, ay, bx, by, cx, cy, az, bz, cz);
     if (!(tt >= r.tmin && tt <= r.tmax)) return false;  // also rejects NaN
     t = tt;
     return true;
