@@ -10,8 +10,9 @@
 // around the origin decide the hit. A shared edge evaluates to exactly opposite values in the
 // two triangles that share it (a*b - c*d against c*d - a*b), so a ray through an edge or vertex
 // hits at least one of them: closed meshes are watertight. We accept U, V, W == 0 (no double
-// precision fallback); a ray exactly through an edge then hits both triangles and the tie at
-// equal t goes to the smaller index.
+// precision fallback for the decision); a ray exactly through an edge then hits both triangles
+// and the tie at equal t goes to the smaller index. Only t is taken in double, where the edge
+// functions cancel (accurate_t).
 #pragma once
 
 #include <cmath>
