@@ -94,14 +94,33 @@ RTT_NOINLINE __attribute__((cold)) inline float accurate_t(float ax, float ay, f
     return float(((u * double(az) + v * double(bz)) + w * double(cz)) / ((u + v) + w));
 }
 
-/// Whether the edge functions' products (p0 - p1, p2 - p3, p4 - p5) cancel past
-/// t_cancellation_limit against det. The same sum in every form of the test.
-template <typename F, typename Abs>
-RTT_FORCEINLINE auto edge_products_cancel(F p0, F p1, F p2, F p3, F p4, F p5, F det, Abs abs_of) {
-    const F spread =
-        ((abs_of(p0) + abs_of(p1)) + (abs_of(p2) + abs_of(p3))) + (abs_of(p4) + abs_of(p5));
-    return spread > F(t_cancellation_limit) * abs_of(det);
-}
+/// The 2D edge functions U, V, W of the sheared vertices, with the products they are made of:
+/// one definition for every form of the test (F: float, or a vector of lanes).
+template <typename F>
+struct EdgeFunctions {
+    F cx_by, cy_bx, ax_cy, ay_cx, bx_ay, by_ax;
+    F u, v, w;
+
+    RTT_FORCEINLINE EdgeFunctions(F ax, F ay, F bx, F by, F cx, F cy)
+        : cx_by(cx * by),
+          cy_bx(cy * bx),
+          ax_cy(ax * cy),
+          ay_cx(ay * cx),
+          bx_ay(bx * ay),
+          by_ax(by * ax),
+          u(cx_by - cy_bx),
+          v(ax_cy - ay_cx),
+          w(bx_ay - by_ax) {}
+
+    /// Whether the products cancel past t_cancellation_limit against det (t is then
+    /// accurate_t's); abs_of: |x| for F.
+    template <typename Abs>
+    RTT_FORCEINLINE auto cancel(F det, Abs abs_of) const {
+        const F spread = ((abs_of(cx_by) + abs_of(cy_bx)) + (abs_of(ax_cy) + abs_of(ay_cx))) +
+                         (abs_of(bx_ay) + abs_of(by_ax));
+        return spread > F(t_cancellation_limit) * abs_of(det);
+    }
+};
 
 /// Returns true and sets t when the ray hits the triangle at t in [tmin, tmax].
 RTT_FORCEINLINE bool intersect_watertight(const WatertightRay& r, const TriangleVerts& tri,
@@ -115,12 +134,8 @@ RTT_FORCEINLINE bool intersect_watertight(const WatertightRay& r, const Triangle
     const float by = b[r.ky] - r.sy * b[r.kz];
     const float cx = c[r.kx] - r.sx * c[r.kz];
     const float cy = c[r.ky] - r.sy * c[r.kz];
-    const float cx_by = cx * by, cy_bx = cy * bx;
-    const float ax_cy = ax * cy, ay_cx = ay * cx;
-    const float bx_ay = bx * ay, by_ax = by * ax;
-    const float u = cx_by - cy_bx;
-    const float v = ax_cy - ay_cx;
-    const float w = bx_ay - by_ax;
+    const EdgeFunctions<float> e(ax, ay, bx, by, cx, cy);
+    const float u = e.u, v = e.v, w = e.w;
     if ((u < 0.f || v < 0.f || w < 0.f) && (u > 0.f || v > 0.f || w > 0.f)) return false;
     const float det = (u + v) + w;
     if (det == 0.f) return false;
@@ -128,8 +143,7 @@ RTT_FORCEINLINE bool intersect_watertight(const WatertightRay& r, const Triangle
     const float bz = r.sz * b[r.kz];
     const float cz = r.sz * c[r.kz];
     float tt = ((u * az + v * bz) + w * cz) / det;
-    if (edge_products_cancel(cx_by, cy_bx, ax_cy, ay_cx, bx_ay, by_ax, det,
-                             [](float x) { return std::fabs(x); })) [[unlikely]]
+    if (e.cancel(det, [](float x) { return std::fabs(x); })) [[unlikely]]
         tt = accurate_t(ax, ay, bx, by, cx, cy, az, bz, cz);
     if (!(tt >= r.tmin && tt <= r.tmax)) return false;  // also rejects NaN
     t = tt;

@@ -156,12 +156,8 @@ RTT_FORCEINLINE vbool<K> intersect_watertight_relative(const WatertightPacket<K>
     const vf by = rel.b_ky - r.sy * rel.b_kz;
     const vf cx = rel.c_kx - r.sx * rel.c_kz;
     const vf cy = rel.c_ky - r.sy * rel.c_kz;
-    const vf cx_by = cx * by, cy_bx = cy * bx;
-    const vf ax_cy = ax * cy, ay_cx = ay * cx;
-    const vf bx_ay = bx * ay, by_ax = by * ax;
-    const vf u = cx_by - cy_bx;
-    const vf v = ax_cy - ay_cx;
-    const vf w = bx_ay - by_ax;
+    const EdgeFunctions<vf> e(ax, ay, bx, by, cx, cy);
+    const vf u = e.u, v = e.v, w = e.w;
     const vf zero(0.f);
     const vbool<K> some_neg = (u < zero) | (v < zero) | (w < zero);
     const vbool<K> some_pos = (u > zero) | (v > zero) | (w > zero);
@@ -175,8 +171,7 @@ RTT_FORCEINLINE vbool<K> intersect_watertight_relative(const WatertightPacket<K>
     const vf bz = r.sz * rel.b_kz;
     const vf cz = r.sz * rel.c_kz;
     t = ((u * az + v * bz) + w * cz) / det;
-    const vbool<K> cancel = hit & edge_products_cancel(cx_by, cy_bx, ax_cy, ay_cx, bx_ay, by_ax,
-                                                       det, [](vf x) { return abs(x); });
+    const vbool<K> cancel = hit & e.cancel(det, [](vf x) { return abs(x); });
     if (any(cancel)) [[unlikely]]
         t = accurate_t_lanes<K>(movemask(cancel), t, {ax, ay, bx, by, cx, cy, az, bz, cz});
     return hit & (t >= r.tmin) & (t <= r.tmax);  // ordered compares also reject NaN

@@ -47,12 +47,8 @@ RTT_FORCEINLINE CornerVerdict test_corners(const Shaft& s, const TriangleVerts& 
     const vf by = vf(bky) - sy * vf(bkz);
     const vf cx = vf(ckx) - sx * vf(ckz);
     const vf cy = vf(cky) - sy * vf(ckz);
-    const vf cx_by = cx * by, cy_bx = cy * bx;
-    const vf ax_cy = ax * cy, ay_cx = ay * cx;
-    const vf bx_ay = bx * ay, by_ax = by * ax;
-    const vf U = cx_by - cy_bx;
-    const vf V = ax_cy - ay_cx;
-    const vf W = bx_ay - by_ax;
+    const EdgeFunctions<vf> e(ax, ay, bx, by, cx, cy);
+    const vf U = e.u, V = e.v, W = e.w;
     const vf zero(0.f);
     CornerVerdict out;
 
@@ -65,8 +61,7 @@ RTT_FORCEINLINE CornerVerdict test_corners(const Shaft& s, const TriangleVerts& 
         const vf sz = vf::load(s.sz);
         const vf az = sz * vf(akz), bz = sz * vf(bkz), cz = sz * vf(ckz);
         out.t = ((U * az + V * bz) + W * cz) / det;
-        const vbool4 cancel = hit & edge_products_cancel(cx_by, cy_bx, ax_cy, ay_cx, bx_ay, by_ax,
-                                                         det, [](vf x) { return abs(x); });
+        const vbool4 cancel = hit & e.cancel(det, [](vf x) { return abs(x); });
         if (any(cancel)) [[unlikely]]
             out.t =
                 accurate_t_lanes<4>(movemask(cancel), out.t, {ax, ay, bx, by, cx, cy, az, bz, cz});

@@ -144,12 +144,8 @@ struct WatertightRay4 {
         const vfloat4 ax = rel(q.v0, kx) - sx * akz, ay = rel(q.v0, ky) - sy * akz;
         const vfloat4 bx = rel(q.v1, kx) - sx * bkz, by = rel(q.v1, ky) - sy * bkz;
         const vfloat4 cx = rel(q.v2, kx) - sx * ckz, cy = rel(q.v2, ky) - sy * ckz;
-        const vfloat4 cx_by = cx * by, cy_bx = cy * bx;
-        const vfloat4 ax_cy = ax * cy, ay_cx = ay * cx;
-        const vfloat4 bx_ay = bx * ay, by_ax = by * ax;
-        const vfloat4 u = cx_by - cy_bx;
-        const vfloat4 v = ax_cy - ay_cx;
-        const vfloat4 w = bx_ay - by_ax;
+        const EdgeFunctions<vfloat4> e(ax, ay, bx, by, cx, cy);
+        const vfloat4 u = e.u, v = e.v, w = e.w;
         const vfloat4 zero(0.f);
         const vbool4 outside =
             ((u < zero) | (v < zero) | (w < zero)) & ((u > zero) | (v > zero) | (w > zero));
@@ -157,9 +153,7 @@ struct WatertightRay4 {
         const vfloat4 az = sz * akz, bz = sz * bkz, cz = sz * ckz;
         t = ((u * az + v * bz) + w * cz) / det;
         const vbool4 inside = andnot(!outside, det == zero);
-        const vbool4 cancel =
-            inside & edge_products_cancel(cx_by, cy_bx, ax_cy, ay_cx, bx_ay, by_ax, det,
-                                          [](vfloat4 x) { return abs(x); });
+        const vbool4 cancel = inside & e.cancel(det, [](vfloat4 x) { return abs(x); });
         if (any(cancel)) [[unlikely]]
             t = accurate_t_lanes<4>(movemask(cancel), t, {ax, ay, bx, by, cx, cy, az, bz, cz});
         const vbool4 in_range = (t >= vfloat4(tmin)) & (t <= vfloat4(tmax));  // false for NaN
