@@ -23,6 +23,7 @@
 #include "core/platform.h"
 #include "rtt/math.h"
 #include "rtt/scene.h"
+#include "simd/isa.h"
 
 namespace rtt {
 
@@ -82,6 +83,9 @@ struct WatertightRay {
 /// it the float t errs by at most 2^-19 of the depths, an eighth of the kd-tree's margin.
 inline constexpr float t_cancellation_limit = 16.f;
 
+// Out of line, so in the ISA's namespace: a copy compiled for AVX-512 must not serve the
+// baseline build's callers (simd/isa.h).
+inline namespace RTT_ISA_NS {
 /// t from the sheared, permuted vertices in double: a product of two floats is exact there, so
 /// the edge functions keep their digits however much they cancel. The hit decision stays the
 /// float edge functions' (watertight); only its distance comes from here.
@@ -93,6 +97,7 @@ RTT_NOINLINE __attribute__((cold)) inline float accurate_t(float ax, float ay, f
     const double w = double(bx) * double(ay) - double(by) * double(ax);
     return float(((u * double(az) + v * double(bz)) + w * double(cz)) / ((u + v) + w));
 }
+}  // namespace RTT_ISA_NS
 
 /// The 2D edge functions U, V, W of the sheared vertices, with the products they are made of:
 /// one definition for every form of the test (F: float, or a vector of lanes).
