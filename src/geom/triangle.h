@@ -10,12 +10,10 @@
 // around the origin decide the hit. A shared edge evaluates to exactly opposite values in the
 // two triangles that share it (a*b - c*d against c*d - a*b), so a ray through an edge or vertex
 // hits at least one of them: closed meshes are watertight. We accept U, V, W == 0 (no double
-// precision fallback for the decision); a ray exactly through an edge then hits both triangles
-// and the tie at equal t goes to the smaller index. Only t is taken in double, where the edge
-// functions cancel (accurate_t).
+// precision fallback); a ray exactly through an edge then hits both triangles and the tie at
+// equal t goes to the smaller index.
 #pragma once
 
-#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -23,7 +21,6 @@
 #include "core/platform.h"
 #include "rtt/math.h"
 #include "rtt/scene.h"
-#include "simd/isa.h"
 
 namespace rtt {
 
@@ -76,57 +73,6 @@ struct WatertightRay {
     }
 };
 
-/// When the six products of the edge functions sum to more than this many times |det|, they
-/// cancel enough that the float t could miss the hit's true distance by more than the
-/// traversal margins allow (a thin triangle met at a grazing angle: t 2.7e-4 off where the kd
-/// margin is 6e-5; docs/design.md, "Assumptions"), and t is taken from accurate_t instead. Below
-/// it the float t errs by at most 2^-19 of the depths, an eighth of the kd-tree's margin.
-inline constexpr float t_cancellation_limit = 16.f;
-
-// Out of line, so in the ISA's namespace: a copy compiled for AVX-512 must not serve the
-// baseline build's callers (simd/isa.h).
-inline namespace RTT_ISA_NS {
-/// t from the sheared, permuted vertices in double: a product of two floats is exact there, so
-/// the edge functions keep their digits however much they cancel. The hit decision stays the
-/// float edge functions' (watertight); only its distance comes from here.
-RTT_NOINLINE __attribute__((cold)) inline float accurate_t(float ax, float ay, float bx, float by,
-                                                           float cx, float cy, float az, float bz,
-                                                           float cz) {
-    const double u = double(cx) * double(by) - double(cy) * double(bx);
-    const double v = double(ax) * double(cy) - double(ay) * double(cx);
-    const double w = double(bx) * double(ay) - double(by) * double(ax);
-    return float(((u * double(az) + v * double(bz)) + w * double(cz)) / ((u + v) + w));
-}
-}  // namespace RTT_ISA_NS
-
-/// The 2D edge functions U, V, W of the sheared vertices, with the products they are made of:
-/// one definition for every form of the test (F: float, or a vector of lanes).
-template <typename F>
-struct EdgeFunctions {
-    F cx_by, cy_bx, ax_cy, ay_cx, bx_ay, by_ax;
-    F u, v, w;
-
-    RTT_FORCEINLINE EdgeFunctions(F ax, F ay, F bx, F by, F cx, F cy)
-        : cx_by(cx * by),
-          cy_bx(cy * bx),
-          ax_cy(ax * cy),
-          ay_cx(ay * cx),
-          bx_ay(bx * ay),
-          by_ax(by * ax),
-          u(cx_by - cy_bx),
-          v(ax_cy - ay_cx),
-          w(bx_ay - by_ax) {}
-
-    /// Whether the products cancel past t_cancellation_limit against det (t is then
-    /// accurate_t's); abs_of: |x| for F.
-    template <typename Abs>
-    RTT_FORCEINLINE auto cancel(F det, Abs abs_of) const {
-        const F spread = ((abs_of(cx_by) + abs_of(cy_bx)) + (abs_of(ax_cy) + abs_of(ay_cx))) +
-                         (abs_of(bx_ay) + abs_of(by_ax));
-        return spread > F(t_cancellation_limit) * abs_of(det);
-    }
-};
-
 /// Returns true and sets t when the ray hits the triangle at t in [tmin, tmax].
 RTT_FORCEINLINE bool intersect_watertight(const WatertightRay& r, const TriangleVerts& tri,
                                           float& t) {
@@ -139,17 +85,16 @@ RTT_FORCEINLINE bool intersect_watertight(const WatertightRay& r, const Triangle
     const float by = b[r.ky] - r.sy * b[r.kz];
     const float cx = c[r.kx] - r.sx * c[r.kz];
     const float cy = c[r.ky] - r.sy * c[r.kz];
-    const EdgeFunctions<float> e(ax, ay, bx, by, cx, cy);
-    const float u = e.u, v = e.v, w = e.w;
+    const float u = cx * by - cy * bx;
+    const float v = ax * cy - ay * cx;
+    const float w = bx * ay - by * ax;
     if ((u < 0.f || v < 0.f || w < 0.f) && (u > 0.f || v > 0.f || w > 0.f)) return false;
     const float det = (u + v) + w;
     if (det == 0.f) return false;
     const float az = r.sz * a[r.kz];
     const float bz = r.sz * b[r.kz];
     const float cz = r.sz * c[r.kz];
-    float tt = ((u * az + v * bz) + w * cz) / det;
-    if (e.cancel(det, [](float x) { return std::fabs(x); })) [[unlikely]]
-        tt = accurate_t(ax, ay, bx, by, cx, cy, az, bz, cz);
+    const float tt = ((u * az + v * bz) + w * cz) / det;
     if (!(tt >= r.tmin && tt <= r.tmax)) return false;  // also rejects NaN
     t = tt;
     return true;

@@ -14,7 +14,6 @@
 // break agreement with the scalar tracer. Triangles stay the 36-byte TriangleVerts.
 #pragma once
 
-#include <array>
 #include <bit>
 #include <type_traits>
 
@@ -123,23 +122,6 @@ struct RelativeTriangle {
     vfloat<K> a_kx, a_ky, a_kz, b_kx, b_ky, b_kz, c_kx, c_ky, c_kz;
 };
 
-/// `t` with the lanes `lanes` replaced by accurate_t of the sheared vertices `v` (ax, ay, bx,
-/// by, cx, cy, az, bz, cz), lane by lane as the scalar test computes it. Out of line: rarely
-/// called, and inlined its arrays grew the traversals' frames.
-template <int K>
-RTT_NOINLINE __attribute__((cold)) vfloat<K> accurate_t_lanes(uint32_t lanes, vfloat<K> t,
-                                                              const std::array<vfloat<K>, 9>& v) {
-    alignas(64) float f[9][K], out[K];
-    for (int i = 0; i < 9; ++i) store(f[i], v[size_t(i)]);
-    store(out, t);
-    for (; lanes; lanes &= lanes - 1) {
-        const int l = std::countr_zero(lanes);
-        out[l] = accurate_t(f[0][l], f[1][l], f[2][l], f[3][l], f[4][l], f[5][l], f[6][l], f[7][l],
-                            f[8][l]);
-    }
-    return vfloat<K>::load(out);
-}
-
 /// intersect_watertight() from its first step's result `rel` (the rest of the test: shear, edge
 /// functions, t), for callers that get `rel` without the subtractions (a common origin).
 /// EarlyOut: return as soon as no lane's edge functions agree (a branch per triangle); without
@@ -156,8 +138,9 @@ RTT_FORCEINLINE vbool<K> intersect_watertight_relative(const WatertightPacket<K>
     const vf by = rel.b_ky - r.sy * rel.b_kz;
     const vf cx = rel.c_kx - r.sx * rel.c_kz;
     const vf cy = rel.c_ky - r.sy * rel.c_kz;
-    const EdgeFunctions<vf> e(ax, ay, bx, by, cx, cy);
-    const vf u = e.u, v = e.v, w = e.w;
+    const vf u = cx * by - cy * bx;
+    const vf v = ax * cy - ay * cx;
+    const vf w = bx * ay - by * ax;
     const vf zero(0.f);
     const vbool<K> some_neg = (u < zero) | (v < zero) | (w < zero);
     const vbool<K> some_pos = (u > zero) | (v > zero) | (w > zero);
@@ -171,9 +154,6 @@ RTT_FORCEINLINE vbool<K> intersect_watertight_relative(const WatertightPacket<K>
     const vf bz = r.sz * rel.b_kz;
     const vf cz = r.sz * rel.c_kz;
     t = ((u * az + v * bz) + w * cz) / det;
-    const vbool<K> cancel = hit & e.cancel(det, [](vf x) { return abs(x); });
-    if (any(cancel)) [[unlikely]]
-        t = accurate_t_lanes<K>(movemask(cancel), t, {ax, ay, bx, by, cx, cy, az, bz, cz});
     return hit & (t >= r.tmin) & (t <= r.tmax);  // ordered compares also reject NaN
 }
 

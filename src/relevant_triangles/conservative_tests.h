@@ -10,7 +10,6 @@
 #include <cmath>
 #include <cstdint>
 
-#include "geom/triangle_simd.h"
 #include "relevant_triangles/shaft.h"
 #include "simd/isa.h"
 
@@ -47,8 +46,9 @@ RTT_FORCEINLINE CornerVerdict test_corners(const Shaft& s, const TriangleVerts& 
     const vf by = vf(bky) - sy * vf(bkz);
     const vf cx = vf(ckx) - sx * vf(ckz);
     const vf cy = vf(cky) - sy * vf(ckz);
-    const EdgeFunctions<vf> e(ax, ay, bx, by, cx, cy);
-    const vf U = e.u, V = e.v, W = e.w;
+    const vf U = cx * by - cy * bx;
+    const vf V = ax * cy - ay * cx;
+    const vf W = bx * ay - by * ax;
     const vf zero(0.f);
     CornerVerdict out;
 
@@ -61,10 +61,6 @@ RTT_FORCEINLINE CornerVerdict test_corners(const Shaft& s, const TriangleVerts& 
         const vf sz = vf::load(s.sz);
         const vf az = sz * vf(akz), bz = sz * vf(bkz), cz = sz * vf(ckz);
         out.t = ((U * az + V * bz) + W * cz) / det;
-        const vbool4 cancel = hit & e.cancel(det, [](vf x) { return abs(x); });
-        if (any(cancel)) [[unlikely]]
-            out.t =
-                accurate_t_lanes<4>(movemask(cancel), out.t, {ax, ay, bx, by, cx, cy, az, bz, cz});
         hit &= (out.t >= vf::load(s.tmin)) & (out.t <= lane_tmax);
         out.hit = movemask(hit);
     }

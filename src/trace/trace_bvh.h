@@ -10,7 +10,6 @@
 #include <span>
 
 #include "bvh/bvh.h"
-#include "geom/triangle_simd.h"
 #include "rtt/tracer.h"
 #include "simd/isa.h"
 #include "simd/simd.h"
@@ -144,20 +143,17 @@ struct WatertightRay4 {
         const vfloat4 ax = rel(q.v0, kx) - sx * akz, ay = rel(q.v0, ky) - sy * akz;
         const vfloat4 bx = rel(q.v1, kx) - sx * bkz, by = rel(q.v1, ky) - sy * bkz;
         const vfloat4 cx = rel(q.v2, kx) - sx * ckz, cy = rel(q.v2, ky) - sy * ckz;
-        const EdgeFunctions<vfloat4> e(ax, ay, bx, by, cx, cy);
-        const vfloat4 u = e.u, v = e.v, w = e.w;
+        const vfloat4 u = cx * by - cy * bx;
+        const vfloat4 v = ax * cy - ay * cx;
+        const vfloat4 w = bx * ay - by * ax;
         const vfloat4 zero(0.f);
         const vbool4 outside =
             ((u < zero) | (v < zero) | (w < zero)) & ((u > zero) | (v > zero) | (w > zero));
         const vfloat4 det = (u + v) + w;
         const vfloat4 az = sz * akz, bz = sz * bkz, cz = sz * ckz;
         t = ((u * az + v * bz) + w * cz) / det;
-        const vbool4 inside = andnot(!outside, det == zero);
-        const vbool4 cancel = inside & e.cancel(det, [](vfloat4 x) { return abs(x); });
-        if (any(cancel)) [[unlikely]]
-            t = accurate_t_lanes<4>(movemask(cancel), t, {ax, ay, bx, by, cx, cy, az, bz, cz});
         const vbool4 in_range = (t >= vfloat4(tmin)) & (t <= vfloat4(tmax));  // false for NaN
-        return movemask(in_range & inside);
+        return movemask(in_range & !outside & !(det == zero));
     }
 };
 
