@@ -2,11 +2,12 @@
 // one traversal per direction octant: each node's children are culled by one test of the
 // packet's frustum, and the survivors tested against every lane at once, so rays that travel
 // together (a tile's samples, reflections off one curved mirror) share the traversal.
-// Exact: the frustum passes every child a lane's own widened slab test passes, a lane's
-// triangles are those its single ray would test (docs/design.md, "The BVH for arbitrary
-// rays"), tested with the packet form of the one watertight test, so every lane's hit is
-// trace_bvh's bit for bit. Lanes whose direction has a zero or tiny component take the
-// single-ray kernel, which handles those axes.
+// Exact: the frustum passes every child a lane's own widened slab test passes, and a lane's
+// box tests keep every box holding a hit of its ray (docs/design.md, "The BVH for arbitrary
+// rays"; PacketRays::subtract may cull more than the single ray's), its triangles tested with
+// the packet form of the one watertight test, so every lane's hit is trace_bvh's bit for bit. Lanes
+// whose direction has a zero or tiny component take the single-ray kernel, which handles those
+// axes.
 #include <algorithm>
 #include <array>
 #include <bit>
