@@ -84,8 +84,12 @@ TYPED_TEST(Simd, FloatArithmeticMatchesScalarBitForBit) {
         const vf sum = x + y, diff = x - y, prod = x * y, quot = x / y, neg = -x;
         const vf mn = min(x, y), mx = max(x, y), ab = abs(x), inv = rcp(x), root = sqrt(x);
         const vf sel = select(x < y, x, y);
+        const vf fms = fused_mul_sub(x, y, sum);
         for (int i = 0; i < K; ++i) {
             const float s = a[base + i], t = b[base + i];
+            // One rounding on every ISA (emulated through double without FMA): std::fma's bits.
+            const float f = std::fma(s, t, -(s + t));
+            mismatches += std::isnan(f) ? !std::isnan(fms[i]) : !same_bits(fms[i], f);
             // With two NaN operands IEEE 754 leaves open which one propagates, and GCC treats
             // the add and multiply intrinsics as commutative (it may swap their operands, as it
             // did at -O1): only NaN-ness is compared then. (Not a question for tracing: a NaN
@@ -107,6 +111,48 @@ TYPED_TEST(Simd, FloatArithmeticMatchesScalarBitForBit) {
         }
     }
     EXPECT_EQ(mismatches, 0);
+}
+
+// The triangle test's edge functions (geom/triangle.h): every width gives the scalar form's
+// bits, and the result keeps the exact difference's sign and lies within 1.5 ulps of it, also
+// where the two products cancel to a few bits (thin triangles met at grazing angles).
+TYPED_TEST(Simd, DifferenceOfProductsIsExactInSignAndSameInEveryWidth) {
+    constexpr int K = TypeParam::value;
+    using vf = vfloat<K>;
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-4.f, 4.f);
+    std::uniform_int_distribution<int> ulps(-3, 3);
+    const auto nudge = [&](float x) {
+        for (int n = ulps(rng); n != 0; n += n > 0 ? -1 : 1)
+            x = std::nextafter(x, n > 0 ? INFINITY : -INFINITY);
+        return x;
+    };
+    int mismatches = 0, wrong_sign = 0, inaccurate = 0, cancelling = 0;
+    for (int round = 0; round < 2000; ++round) {
+        alignas(64) float a[K], b[K], c[K], d[K];
+        for (int i = 0; i < K; ++i) {
+            a[i] = u(rng), b[i] = u(rng);
+            // Half the lanes: c * d within a few ulps of a * b, so the difference cancels.
+            const bool cancel = (round + i) % 2 == 0;
+            c[i] = cancel ? nudge(a[i]) : u(rng);
+            d[i] = cancel ? nudge(b[i]) : u(rng);
+        }
+        const vf r = difference_of_products(vf::load(a), vf::load(b), vf::load(c), vf::load(d));
+        for (int i = 0; i < K; ++i) {
+            const float s = difference_of_products(a[i], b[i], c[i], d[i]);
+            mismatches += !same_bits(r[i], s);
+            // Products of floats are exact in double, and their difference is rounded once.
+            const double exact = double(a[i]) * b[i] - double(c[i]) * d[i];
+            wrong_sign += (s > 0) != (exact > 0) || (s < 0) != (exact < 0);
+            const double ulp = std::ldexp(1.0, std::ilogb(float(exact)) - 23);
+            inaccurate += exact != 0 && std::fabs(s - exact) > 1.5 * ulp;
+            cancelling += std::fabs(exact) < 1e-4 * std::fabs(double(a[i]) * b[i]);
+        }
+    }
+    EXPECT_EQ(mismatches, 0);
+    EXPECT_EQ(wrong_sign, 0);
+    EXPECT_EQ(inaccurate, 0);
+    EXPECT_GT(cancelling, 100) << "the test should cancel products to a few bits";
 }
 
 TYPED_TEST(Simd, FloatComparisonsFollowCpp) {

@@ -7,13 +7,22 @@
 // identically everywhere.
 //
 // The ray is sheared so that it becomes the +z axis; the triangle's 2D edge functions U, V, W
-// around the origin decide the hit. A shared edge evaluates to exactly opposite values in the
-// two triangles that share it (a*b - c*d against c*d - a*b), so a ray through an edge or vertex
-// hits at least one of them: closed meshes are watertight. We accept U, V, W == 0 (no double
-// precision fallback); a ray exactly through an edge then hits both triangles and the tie at
-// equal t goes to the smaller index.
+// around the origin decide the hit. Each is a difference of products taken with Kahan's fused
+// multiply-subtracts (difference_of_products): within 1.5 ulps of the exact difference of the
+// sheared floats, so its sign, and whether it is zero, are exact. A shared edge therefore has
+// exactly opposite signs in the two triangles that share it, and a ray through an edge or
+// vertex hits at least one of them: closed meshes are watertight. We accept U, V, W == 0; a ray
+// exactly through an edge then hits both triangles and the tie at equal t goes to the smaller
+// index. Plain float differences would also be watertight, but they cancel on a thin triangle
+// met at a grazing angle and t, their weighted sum of depths, then misses the hit's true
+// distance by more than the trees' margins (docs/design.md, "Assumptions").
+//
+// The fused operations are the one exception to -ffp-contract=off: a fused multiply-add is
+// correctly rounded wherever it runs (an instruction, or std::fma in software), so it keeps
+// every tracer's bits identical.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -73,6 +82,21 @@ struct WatertightRay {
     }
 };
 
+/// a * b - c with one rounding (the scalar form of simd's fused_mul_sub).
+RTT_FORCEINLINE float fused_mul_sub(float a, float b, float c) {
+    return std::fma(a, b, -c);
+}
+
+/// a * b - c * d within 1.5 ulps (Kahan: c * d's rounding error, recovered exactly by a fused
+/// multiply-subtract, is taken back from the fused a * b - round(c * d)). For float and every
+/// vfloat, in the same operations, so every form of the test gets the same bits.
+template <typename F>
+RTT_FORCEINLINE F difference_of_products(F a, F b, F c, F d) {
+    const F cd = c * d;
+    const F cd_error = fused_mul_sub(c, d, cd);  // c * d - cd, exactly
+    return fused_mul_sub(a, b, cd) - cd_error;
+}
+
 /// Returns true and sets t when the ray hits the triangle at t in [tmin, tmax].
 RTT_FORCEINLINE bool intersect_watertight(const WatertightRay& r, const TriangleVerts& tri,
                                           float& t) {
@@ -85,9 +109,9 @@ RTT_FORCEINLINE bool intersect_watertight(const WatertightRay& r, const Triangle
     const float by = b[r.ky] - r.sy * b[r.kz];
     const float cx = c[r.kx] - r.sx * c[r.kz];
     const float cy = c[r.ky] - r.sy * c[r.kz];
-    const float u = cx * by - cy * bx;
-    const float v = ax * cy - ay * cx;
-    const float w = bx * ay - by * ax;
+    const float u = difference_of_products(cx, by, cy, bx);
+    const float v = difference_of_products(ax, cy, ay, cx);
+    const float w = difference_of_products(bx, ay, by, ax);
     if ((u < 0.f || v < 0.f || w < 0.f) && (u > 0.f || v > 0.f || w > 0.f)) return false;
     const float det = (u + v) + w;
     if (det == 0.f) return false;

@@ -138,9 +138,9 @@ RTT_FORCEINLINE vbool<K> intersect_watertight_relative(const WatertightPacket<K>
     const vf by = rel.b_ky - r.sy * rel.b_kz;
     const vf cx = rel.c_kx - r.sx * rel.c_kz;
     const vf cy = rel.c_ky - r.sy * rel.c_kz;
-    const vf u = cx * by - cy * bx;
-    const vf v = ax * cy - ay * cx;
-    const vf w = bx * ay - by * ax;
+    const vf u = difference_of_products(cx, by, cy, bx);
+    const vf v = difference_of_products(ax, cy, ay, cx);
+    const vf w = difference_of_products(bx, ay, by, ax);
     const vf zero(0.f);
     const vbool<K> some_neg = (u < zero) | (v < zero) | (w < zero);
     const vbool<K> some_pos = (u > zero) | (v > zero) | (w > zero);

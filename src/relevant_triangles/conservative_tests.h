@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "geom/triangle.h"
 #include "relevant_triangles/shaft.h"
 #include "simd/isa.h"
 
@@ -46,9 +47,9 @@ RTT_FORCEINLINE CornerVerdict test_corners(const Shaft& s, const TriangleVerts& 
     const vf by = vf(bky) - sy * vf(bkz);
     const vf cx = vf(ckx) - sx * vf(ckz);
     const vf cy = vf(cky) - sy * vf(ckz);
-    const vf U = cx * by - cy * bx;
-    const vf V = ax * cy - ay * cx;
-    const vf W = bx * ay - by * ax;
+    const vf U = difference_of_products(cx, by, cy, bx);
+    const vf V = difference_of_products(ax, cy, ay, cx);
+    const vf W = difference_of_products(bx, ay, by, ax);
     const vf zero(0.f);
     CornerVerdict out;
 

@@ -117,6 +117,10 @@ RTT_FORCEINLINE vfloat16 mul_sub(vfloat16 a, vfloat16 b, vfloat16 c) {
 RTT_FORCEINLINE vfloat16 mul_add(vfloat16 a, vfloat16 b, vfloat16 c) {
     return _mm512_fmadd_ps(a, b, c);
 }
+/// a * b - c with one rounding (vfloat4.h's fused_mul_sub).
+RTT_FORCEINLINE vfloat16 fused_mul_sub(vfloat16 a, vfloat16 b, vfloat16 c) {
+    return _mm512_fmsub_ps(a, b, c);
+}
 RTT_FORCEINLINE vfloat16 abs(vfloat16 a) {
     return _mm512_castsi512_ps(
         _mm512_and_si512(_mm512_castps_si512(a), _mm512_set1_epi32(INT32_MAX)));

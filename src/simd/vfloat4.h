@@ -129,6 +129,45 @@ RTT_FORCEINLINE vfloat4 mul_add(vfloat4 a, vfloat4 b, vfloat4 c) {
     return a * b + c;
 #endif
 }
+#ifndef __FMA__
+/// x * y - z for two lanes of floats widened to double, rounded to odd: the product is exact in
+/// double, the difference is rounded to nearest and its error recovered exactly (Knuth's
+/// TwoSum); an inexact result with an even last bit moves one ulp towards the exact value.
+/// Rounding that to float is then the correctly rounded float result (Boldo and Melquiond,
+/// "Emulation of FMA and correctly rounded sums: proved algorithms using rounding to odd",
+/// IEEE Trans. Computers 57(4), 2008: double has more than twice float's bits plus one).
+RTT_FORCEINLINE __m128d mul_sub_round_to_odd(__m128d x, __m128d y, __m128d z) {
+    const __m128d p = _mm_mul_pd(x, y), nz = _mm_xor_pd(z, _mm_set1_pd(-0.0));
+    const __m128d s = _mm_add_pd(p, nz);
+    const __m128d bb = _mm_sub_pd(s, p);
+    const __m128d err = _mm_add_pd(_mm_sub_pd(p, _mm_sub_pd(s, bb)), _mm_sub_pd(nz, bb));
+    // err is NaN where s is infinite or NaN: those lanes are left as they are.
+    const __m128i inexact =
+        _mm_castpd_si128(_mm_and_pd(_mm_cmpneq_pd(err, _mm_setzero_pd()), _mm_cmpord_pd(err, err)));
+    const __m128i bits = _mm_castpd_si128(s);
+    const __m128i even =
+        _mm_cmpeq_epi64(_mm_and_si128(bits, _mm_set1_epi64x(1)), _mm_setzero_si128());
+    // +1 in the bits moves away from zero: where err points towards zero, -1.
+    const __m128i towards_zero =
+        _mm_cmpgt_epi64(_mm_setzero_si128(), _mm_castpd_si128(_mm_xor_pd(err, s)));
+    const __m128i step = _mm_or_si128(towards_zero, _mm_set1_epi64x(1));
+    return _mm_castsi128_pd(_mm_add_epi64(bits, _mm_and_si128(_mm_and_si128(inexact, even), step)));
+}
+#endif
+
+/// a * b - c with one rounding on every target: the FMA instruction, or where there is none
+/// (SSE4.2) the same correctly rounded result through double, so each ISA computes the same
+/// bits. For the triangle test's edge functions (geom/triangle.h, difference_of_products).
+RTT_FORCEINLINE vfloat4 fused_mul_sub(vfloat4 a, vfloat4 b, vfloat4 c) {
+#ifdef __FMA__
+    return _mm_fmsub_ps(a, b, c);
+#else
+    const auto high = [](__m128 v) { return _mm_cvtps_pd(_mm_movehl_ps(v, v)); };
+    const __m128d lo = mul_sub_round_to_odd(_mm_cvtps_pd(a), _mm_cvtps_pd(b), _mm_cvtps_pd(c));
+    const __m128d hi = mul_sub_round_to_odd(high(a), high(b), high(c));
+    return _mm_movelh_ps(_mm_cvtpd_ps(lo), _mm_cvtpd_ps(hi));
+#endif
+}
 RTT_FORCEINLINE vfloat4 abs(vfloat4 a) {
     return _mm_andnot_ps(_mm_set1_ps(-0.f), a);
 }

@@ -109,6 +109,10 @@ RTT_FORCEINLINE vfloat8 mul_sub(vfloat8 a, vfloat8 b, vfloat8 c) {
 RTT_FORCEINLINE vfloat8 mul_add(vfloat8 a, vfloat8 b, vfloat8 c) {
     return _mm256_fmadd_ps(a, b, c);
 }
+/// a * b - c with one rounding (vfloat4.h's fused_mul_sub).
+RTT_FORCEINLINE vfloat8 fused_mul_sub(vfloat8 a, vfloat8 b, vfloat8 c) {
+    return _mm256_fmsub_ps(a, b, c);
+}
 RTT_FORCEINLINE vfloat8 abs(vfloat8 a) {
     return _mm256_andnot_ps(_mm256_set1_ps(-0.f), a);
 }

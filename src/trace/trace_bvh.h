@@ -10,6 +10,7 @@
 #include <span>
 
 #include "bvh/bvh.h"
+#include "geom/triangle.h"
 #include "rtt/tracer.h"
 #include "simd/isa.h"
 #include "simd/simd.h"
@@ -143,9 +144,9 @@ struct WatertightRay4 {
         const vfloat4 ax = rel(q.v0, kx) - sx * akz, ay = rel(q.v0, ky) - sy * akz;
         const vfloat4 bx = rel(q.v1, kx) - sx * bkz, by = rel(q.v1, ky) - sy * bkz;
         const vfloat4 cx = rel(q.v2, kx) - sx * ckz, cy = rel(q.v2, ky) - sy * ckz;
-        const vfloat4 u = cx * by - cy * bx;
-        const vfloat4 v = ax * cy - ay * cx;
-        const vfloat4 w = bx * ay - by * ax;
+        const vfloat4 u = difference_of_products(cx, by, cy, bx);
+        const vfloat4 v = difference_of_products(ax, cy, ay, cx);
+        const vfloat4 w = difference_of_products(bx, ay, by, ax);
         const vfloat4 zero(0.f);
         const vbool4 outside =
             ((u < zero) | (v < zero) | (w < zero)) & ((u > zero) | (v > zero) | (w > zero));
