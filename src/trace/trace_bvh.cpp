@@ -32,6 +32,7 @@ struct RaySetups {
     alignas(64) float inv[3][K], org_inv[3][K], t_margin[K], far_t_margin[K], sx[K], sy[K], sz[K];
     alignas(64) int32_t kx[K], ky[K], kz[K];
     alignas(64) int32_t negative[K], flat[K], free[K];  ///< BoxLanes' axis bits.
+    uint32_t subtract;                                  ///< BoxLanes' subtract lanes.
 
     /// rays[0, n), 1 <= n <= K; the lanes beyond n repeat ray 0.
     RaySetups(const Ray* rays, int n, const Bbox3f& bounds) {
@@ -54,6 +55,7 @@ struct RaySetups {
         store(negative, box.negative);
         store(flat, box.flat);
         store(free, box.free);
+        subtract = movemask(box.subtract);
         store(far_t_margin, box.far_t_margin);
         const WatertightPacket<K> w(o, d, f[6], f[7], vbool<K>(true));
         store(sx, w.sx);
@@ -81,9 +83,11 @@ struct BoxRay {
     /// dir < 0): fixed per ray, so a node's test picks no faces.
     uint32_t enter[3], leave[3];
     // Set only when the ray is not plain, for the test's slow path (BoxLanes' axes):
-    bool flat[3];      ///< dir[a] == 0: inside the closed slab when the ray lies in a face's plane.
-    bool free[3];      ///< |1 / dir[a]| beyond 2^40: the axis never culls.
-    bool plain;        ///< No axis flat or free.
+    bool flat[3];  ///< dir[a] == 0: inside the closed slab when the ray lies in a face's plane.
+    bool free[3];  ///< |1 / dir[a]| beyond 2^40: the axis never culls.
+    /// No axis flat or free, and not BoxLanes' `subtract`: the slow path's (face - org) * inv
+    /// is the form a subtract ray's margin is sized for.
+    bool plain;
     bool nonneg_tmin;  ///< tmin >= 0 (widen_interval).
 
     /// Lane `l` of a batch made by RaySetups.
@@ -96,7 +100,7 @@ struct BoxRay {
         t_margin = vf(s.t_margin[l]);
         far_t_margin = vf(s.far_t_margin[l]);
         const uint32_t flat_bits = uint32_t(s.flat[l]), free_bits = uint32_t(s.free[l]);
-        plain = (flat_bits | free_bits) == 0;
+        plain = (flat_bits | free_bits) == 0 && !((s.subtract >> l) & 1u);
         nonneg_tmin = ray.tmin >= 0.f;
         box_faces<W>(uint32_t(s.negative[l]), enter, leave);
         if (!plain) [[unlikely]] {

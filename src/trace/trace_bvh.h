@@ -71,7 +71,9 @@ RTT_FORCEINLINE V far_margin(V t_margin, float relative) {
 /// scene_t_scale), grown to cover the rounding of face * inv - org * inv. An axis whose
 /// direction is 0 (`flat`: a face distance is NaN when the ray lies in the face's plane) or
 /// whose inverse exceeds 2^40 (`free`: left unbounded) adds nothing to the origin term; the
-/// tests treat such axes apart.
+/// tests treat such axes apart. Where the origin term would more than double the margin, the
+/// lane is `subtract`: its test takes (face - org) * inv, whose margin needs no origin term (as
+/// the packets' PacketRays::subtract).
 template <int K>
 struct BoxLanes {
     using vf = vfloat<K>;
@@ -79,6 +81,7 @@ struct BoxLanes {
     vf far_t_margin;  ///< far_margin(t_margin, 2 kd_margin): the single rays' box test's.
     /// Per lane, bit a for axis a: the direction is negative, flat, free.
     vint<K> negative{0}, flat{0}, free{0};
+    vbool<K> subtract;
 
     RTT_FORCEINLINE BoxLanes(const Vec3v<K>& org, const Vec3v<K>& dir, const Bbox3f& bounds) {
         const vf* o[3] = {&org.x, &org.y, &org.z};
@@ -100,7 +103,9 @@ struct BoxLanes {
             org_t = max(org_t, select(zero | huge, vf(0.f), abs(org_inv[a])));
         }
         const vf scale = min_flt_max(dist / dir_max);
-        t_margin = vf(2.f * kd_margin) * min_flt_max(scale + org_t * vf(0x1p-6f));
+        subtract = org_t * vf(0x1p-6f) > scale;
+        t_margin =
+            vf(2.f * kd_margin) * select(subtract, scale, min_flt_max(scale + org_t * vf(0x1p-6f)));
         far_t_margin = far_margin(t_margin, 2.f * kd_margin);
     }
 };
