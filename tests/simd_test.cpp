@@ -144,8 +144,10 @@ TYPED_TEST(Simd, DifferenceOfProductsIsExactInSignAndSameInEveryWidth) {
             // Products of floats are exact in double, and their difference is rounded once.
             const double exact = double(a[i]) * b[i] - double(c[i]) * d[i];
             wrong_sign += (s > 0) != (exact > 0) || (s < 0) != (exact < 0);
-            const double ulp = std::ldexp(1.0, std::ilogb(float(exact)) - 23);
-            inaccurate += exact != 0 && std::fabs(s - exact) > 1.5 * ulp;
+            if (exact != 0) {
+                const double ulp = std::ldexp(1.0, std::ilogb(float(exact)) - 23);
+                inaccurate += std::fabs(s - exact) > 1.5 * ulp;
+            }
             cancelling += std::fabs(exact) < 1e-4 * std::fabs(double(a[i]) * b[i]);
         }
     }
